@@ -1,0 +1,48 @@
+"""NC dialects. Each dialect depends only on ``vmach.canon``, ``vmach.source``, ``vmach.errors``
+and ``vmach.findings``; everything downstream sees only canonical commands.
+
+A dialect module exposes::
+
+    EXTENSIONS : tuple of str          lower-case file extensions it reads
+    check(path, control) -> list[Finding]
+    run(path, control, options) -> RunResult
+
+The registry below is a plain dict from extension to module name (imported on first use).
+"""
+
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+from types import ModuleType
+
+from vmach.errors import InputError
+
+DIALECTS: dict[str, str] = {
+    ".mpf": "interpreters.sinumerik",
+    ".spf": "interpreters.sinumerik",
+    ".arc": "interpreters.sinumerik",
+    ".ngc": "interpreters.rs274ngc",
+    ".nc": "interpreters.rs274ngc",
+    ".tap": "interpreters.rs274ngc",
+}
+
+NAMES: dict[str, str] = {
+    "sinumerik": "interpreters.sinumerik",
+    "rs274ngc": "interpreters.rs274ngc",
+}
+
+
+def dialect_for(path: str | Path, name: str | None = None) -> ModuleType:
+    """The dialect module for ``path`` (by extension) or by explicit ``name``."""
+    if name is not None:
+        if name not in NAMES:
+            raise InputError(f"unknown dialect {name!r}; known: {', '.join(sorted(NAMES))}")
+        return importlib.import_module(NAMES[name])
+    ext = Path(path).suffix.lower()
+    if ext not in DIALECTS:
+        raise InputError(
+            f"{path}: cannot tell the dialect from the extension {ext!r}; "
+            f"use --dialect ({', '.join(sorted(NAMES))})"
+        )
+    return importlib.import_module(DIALECTS[ext])

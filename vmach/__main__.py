@@ -1,0 +1,3 @@
+from vmach.cli import main
+
+raise SystemExit(main())

@@ -1,0 +1,422 @@
+"""Canonical machining commands: the only contract between ``interpreters/`` and ``vmach/``.
+
+The idea is LinuxCNC's ``canon.hh``: an interpreter reads a program and emits a stream of
+simple commands; nothing downstream ever sees G-code text, and an interpreter never sees meshes
+or kinematic chains. It asks the machine questions only through :class:`ControlSpec`.
+
+Contracts every interpreter keeps:
+
+- Units: lengths in mm, angles in degrees, time in seconds, feed in mm/min (``per_minute``),
+  mm per spindle revolution (``per_rev``) or 1/min (``inverse_time``) as the last
+  :class:`FeedMode` says. Inch programs are converted before they get here.
+- Motion targets (``axes``) are **machine-axis values** after every work offset and frame
+  (G54, TRANS, ROT, G92 ...) has been applied, for *every* axis the control knows, named as the
+  machine model names them (``X Y Z C1`` on the turn-mill, ``X Y Z B C`` on the five-axis).
+  Linear targets are the programmed tool tip; tool-length compensation is applied downstream by
+  the kinematics, because its direction depends on the chain.
+- The transverse axis of a lathe (``X`` with DIAMON) is always a **radius**.
+- Modulo rotary axes are **unwrapped**: the value carries direction and amount of travel
+  (from 350, ``ACP(10)`` gives 370; then ``ACN(350)`` gives 350).
+- Every command carries the :class:`SourceRef` of the block that caused it.
+- State commands (:class:`Spindle`, :class:`Coolant`, :class:`FeedMode` ...) carry the state
+  *after* the change, so a consumer only keeps the last one of each kind.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+from vmach.source import SourceRef
+
+# --------------------------------------------------------------------------------------------
+# What the machine tells an interpreter (canon.hh's query functions, as data)
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class AxisSpec:
+    """One programmable machine axis.
+
+    name : str
+        Name as programmed (``X``, ``C1``).
+    kind : str
+        ``"linear"`` (mm) or ``"rotary"`` (degrees).
+    modulo : float or None
+        360 for a modulo rotary axis (endless turning, ACP/ACN/DC), else None.
+    home : float
+        Position at program start (mm or degrees).
+    g90_mode : str
+        How a plain absolute target moves a modulo axis: ``"ac"`` (Sinumerik default,
+        MD30455 bit 2 = 0: toward larger or smaller modulo value) or ``"dc"`` (shortest path).
+    """
+
+    name: str
+    kind: str = "linear"
+    modulo: float | None = None
+    home: float = 0.0
+    g90_mode: str = "ac"
+
+
+@dataclass(frozen=True, slots=True)
+class ControlSpec:
+    """What an interpreter may know of the machine.
+
+    axes : tuple of AxisSpec
+        The programmable axes, in the machine model's order.
+    geometry : tuple of str
+        The three geometry axes (first, second, third) that planes, frames and arcs use.
+    transverse : str or None
+        The lathe's transverse axis that DIAMON/DIAMOF apply to.
+    cycles : frozenset of str
+        Maker's cycles and procedures callable by name (``C_AXIS_ON``).
+    gcodes : frozenset of str
+        Machine-specific G codes (``G971``).
+    strict_axes : bool
+        True when the axis list is authoritative (from ``--machine``): any other axis word is
+        an error. False: any axis letter the program uses is accepted as a plain axis.
+    zero_offsets : mapping
+        ``{"G54": {"X": 0.0, ...}, ...}`` settable zero offsets in mm/degrees (default zero).
+    spindles : tuple of int
+        Spindle numbers the machine has.
+    master_spindle : int
+        Spindle that plain ``S``/``M3`` address at program start.
+    """
+
+    axes: tuple[AxisSpec, ...] = ()
+    geometry: tuple[str, str, str] = ("X", "Y", "Z")
+    transverse: str | None = None
+    cycles: frozenset[str] = frozenset()
+    gcodes: frozenset[str] = frozenset()
+    strict_axes: bool = False
+    zero_offsets: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
+    spindles: tuple[int, ...] = (1,)
+    master_spindle: int = 1
+
+    def axis(self, name: str) -> AxisSpec | None:
+        for a in self.axes:
+            if a.name == name:
+                return a
+        return None
+
+
+DEFAULT_CONTROL = ControlSpec(
+    axes=(AxisSpec("X"), AxisSpec("Y"), AxisSpec("Z")),
+    strict_axes=False,
+)
+
+
+# --------------------------------------------------------------------------------------------
+# Commands
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class Command:
+    """Base of every canonical command."""
+
+    source: SourceRef
+    kind: ClassVar[str] = "command"
+
+    def fields(self) -> dict[str, Any]:
+        """The command's own fields for JSON (without kind and source)."""
+        return {}
+
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"kind": self.kind, "file": self.source.path, "line": self.source.line}
+        out.update(self.fields())
+        return out
+
+
+@dataclass(frozen=True, slots=True)
+class Traverse(Command):
+    """Rapid positioning (G0) to ``axes`` (every axis, machine values)."""
+
+    axes: Mapping[str, float] = field(default_factory=dict)
+    kind: ClassVar[str] = "traverse"
+
+    def fields(self) -> dict[str, Any]:
+        return {"axes": dict(self.axes), "feed": None}
+
+
+@dataclass(frozen=True, slots=True)
+class LinearFeed(Command):
+    """Straight feed move (G1) to ``axes`` at ``feed`` (units per the last FeedMode)."""
+
+    axes: Mapping[str, float] = field(default_factory=dict)
+    feed: float = 0.0
+    kind: ClassVar[str] = "feed"
+
+    def fields(self) -> dict[str, Any]:
+        return {"axes": dict(self.axes), "feed": self.feed}
+
+
+@dataclass(frozen=True, slots=True)
+class ArcFeed(Command):
+    """Circular or helical feed move (G2/G3).
+
+    axes : end point, every axis (machine values).
+    plane : tuple (first, second, normal) axis names of the arc plane, e.g. ("Z", "X", "Y").
+    center : (2,) float, mm — centre in the plane's first and second axis (machine values).
+    clockwise : looking from the positive normal axis down on the plane.
+    turns : extra full turns (0 for an arc of less than one turn).
+    """
+
+    axes: Mapping[str, float] = field(default_factory=dict)
+    plane: tuple[str, str, str] = ("X", "Y", "Z")
+    center: tuple[float, float] = (0.0, 0.0)
+    clockwise: bool = True
+    turns: int = 0
+    feed: float = 0.0
+    kind: ClassVar[str] = "arc"
+
+    def fields(self) -> dict[str, Any]:
+        return {
+            "axes": dict(self.axes),
+            "feed": self.feed,
+            "plane": list(self.plane),
+            "center": list(self.center),
+            "clockwise": self.clockwise,
+            "turns": self.turns,
+        }
+
+
+MOTIONS = (Traverse, LinearFeed, ArcFeed)
+
+
+@dataclass(frozen=True, slots=True)
+class Dwell(Command):
+    """Dwell (G4): ``seconds``, or ``revolutions`` of the master spindle."""
+
+    seconds: float | None = None
+    revolutions: float | None = None
+    kind: ClassVar[str] = "dwell"
+
+    def fields(self) -> dict[str, Any]:
+        return {"seconds": self.seconds, "revolutions": self.revolutions}
+
+
+@dataclass(frozen=True, slots=True)
+class ToolChange(Command):
+    """Tool change: ``tool`` is the name (``"GLOD D40"``) or the number as text (``"1"``)."""
+
+    tool: str = ""
+    number: int | None = None
+    offset: int | None = None
+    kind: ClassVar[str] = "tool_change"
+
+    def fields(self) -> dict[str, Any]:
+        return {"tool": self.tool, "number": self.number, "offset": self.offset}
+
+
+@dataclass(frozen=True, slots=True)
+class ToolOffset(Command):
+    """Activate tool offset (edge) ``offset`` (Sinumerik D, RS274 H); 0 switches it off."""
+
+    offset: int = 0
+    kind: ClassVar[str] = "tool_offset"
+
+    def fields(self) -> dict[str, Any]:
+        return {"offset": self.offset}
+
+
+@dataclass(frozen=True, slots=True)
+class Spindle(Command):
+    """State of spindle ``spindle`` after a change: speed (rev/min) and direction.
+
+    direction : ``"cw"``, ``"ccw"`` or ``"stop"``.
+    """
+
+    spindle: int = 1
+    speed: float = 0.0
+    direction: str = "stop"
+    kind: ClassVar[str] = "spindle"
+
+    def fields(self) -> dict[str, Any]:
+        return {"spindle": self.spindle, "speed": self.speed, "direction": self.direction}
+
+
+@dataclass(frozen=True, slots=True)
+class MasterSpindle(Command):
+    """The spindle that plain S and M3/M4/M5 now address (Sinumerik SETMS)."""
+
+    spindle: int = 1
+    kind: ClassVar[str] = "master_spindle"
+
+    def fields(self) -> dict[str, Any]:
+        return {"spindle": self.spindle}
+
+
+@dataclass(frozen=True, slots=True)
+class Coolant(Command):
+    """Coolant state: ``"mist"``, ``"flood"``, ``"mist+flood"`` or ``"off"``."""
+
+    mode: str = "off"
+    kind: ClassVar[str] = "coolant"
+
+    def fields(self) -> dict[str, Any]:
+        return {"mode": self.mode}
+
+
+@dataclass(frozen=True, slots=True)
+class FeedMode(Command):
+    """Feed interpretation: ``"per_minute"``, ``"per_rev"`` or ``"inverse_time"``."""
+
+    mode: str = "per_minute"
+    kind: ClassVar[str] = "feed_mode"
+
+    def fields(self) -> dict[str, Any]:
+        return {"mode": self.mode}
+
+
+@dataclass(frozen=True, slots=True)
+class PlaneSelect(Command):
+    """Working plane as (first, second, normal) axis names: G17 XY, G18 ZX, G19 YZ."""
+
+    plane: tuple[str, str, str] = ("X", "Y", "Z")
+    kind: ClassVar[str] = "plane"
+
+    def fields(self) -> dict[str, Any]:
+        return {"plane": list(self.plane)}
+
+
+@dataclass(frozen=True, slots=True)
+class SetFrame(Command):
+    """The active coordinate frame changed (informational; targets are already resolved).
+
+    origin : program zero in machine values, per axis.
+    rotation : (9,) float — row-major 3x3 rotation of the geometry axes.
+    """
+
+    origin: Mapping[str, float] = field(default_factory=dict)
+    rotation: tuple[float, ...] = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+    kind: ClassVar[str] = "frame"
+
+    def fields(self) -> dict[str, Any]:
+        return {"origin": dict(self.origin), "rotation": list(self.rotation)}
+
+
+@dataclass(frozen=True, slots=True)
+class CycleCall(Command):
+    """A machine-declared cycle or machine-specific G code (``C_AXIS_ON``, ``G971``)."""
+
+    name: str = ""
+    args: tuple[Any, ...] = ()
+    kind: ClassVar[str] = "cycle"
+
+    def fields(self) -> dict[str, Any]:
+        return {"name": self.name, "args": list(self.args)}
+
+
+@dataclass(frozen=True, slots=True)
+class Message(Command):
+    """Operator message (Sinumerik MSG, RS274 (MSG,...))."""
+
+    text: str = ""
+    kind: ClassVar[str] = "message"
+
+    def fields(self) -> dict[str, Any]:
+        return {"text": self.text}
+
+
+@dataclass(frozen=True, slots=True)
+class Comment(Command):
+    """A comment the interpreter passes on (RS274 ``( ... )``)."""
+
+    text: str = ""
+    kind: ClassVar[str] = "comment"
+
+    def fields(self) -> dict[str, Any]:
+        return {"text": self.text}
+
+
+@dataclass(frozen=True, slots=True)
+class Pause(Command):
+    """Program stop M0, or optional stop M1 (``optional=True``)."""
+
+    optional: bool = False
+    kind: ClassVar[str] = "pause"
+
+    def fields(self) -> dict[str, Any]:
+        return {"optional": self.optional}
+
+
+@dataclass(frozen=True, slots=True)
+class ProgramEnd(Command):
+    """End of the main program (M30, M2)."""
+
+    code: str = "M30"
+    kind: ClassVar[str] = "program_end"
+
+    def fields(self) -> dict[str, Any]:
+        return {"code": self.code}
+
+
+# --------------------------------------------------------------------------------------------
+# Trace formats
+# --------------------------------------------------------------------------------------------
+
+
+def _num(v: float) -> str:
+    return f"{v:.4f}"
+
+
+def format_text(cmd: Command, index: int) -> str:
+    """One human-readable trace line: counter, kind, fields, ``; file:line``."""
+    f = cmd.fields()
+    parts: list[str] = []
+    for key, val in f.items():
+        if key == "axes":
+            parts.append(" ".join(f"{k}={_num(v)}" for k, v in val.items()))
+        elif val is None:
+            continue
+        elif isinstance(val, float):
+            parts.append(f"{key}={_num(val)}")
+        elif isinstance(val, list):
+            parts.append(f"{key}=" + ",".join(_num(x) if isinstance(x, float) else str(x) for x in val))
+        elif isinstance(val, str):
+            parts.append(f"{key}={json.dumps(val, ensure_ascii=False)}")
+        else:
+            parts.append(f"{key}={val}")
+    body = " ".join(parts)
+    return f"{index:6d} {cmd.kind:<14s} {body}  ; {cmd.source.path}:{cmd.source.line}"
+
+
+def format_json(cmd: Command) -> str:
+    """One JSON Lines record."""
+    return json.dumps(cmd.to_json(), ensure_ascii=False)
+
+
+# --------------------------------------------------------------------------------------------
+# What an interpreter returns
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class RunOptions:
+    """Knobs every interpreter honours.
+
+    max_blocks : blocks executed before the run stops with ``block_limit`` (infinite loops).
+    max_call_depth : nested subprogram calls before ``call_depth``.
+    """
+
+    max_blocks: int = 10_000_000
+    max_call_depth: int = 16
+
+
+@dataclass(slots=True)
+class RunResult:
+    """Outcome of interpreting a program.
+
+    commands : the canonical stream, in execution order.
+    findings : warnings met while running, and the error that stopped the run if any.
+    completed : False when an error stopped the run before its end.
+    blocks : number of blocks executed (all files).
+    """
+
+    commands: list[Command]
+    findings: list[Any]
+    completed: bool
+    blocks: int = 0

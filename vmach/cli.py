@@ -1,0 +1,76 @@
+"""Command line: ``vmach <command> ...``.
+
+Each command lives in ``vmach/commands/<name>.py`` and provides ``HELP`` (one line),
+``add_arguments(parser)`` and ``run(args) -> int``. ``main`` turns every :class:`VmachError`
+into a diagnostic on stderr and an exit code (0 ok, 1 findings or program errors, 2 usage or
+unreadable input); no Python traceback reaches the user for bad input.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from vmach import __version__
+from vmach.errors import VmachError
+
+#: command name -> module; a module that does not exist yet is simply not offered.
+COMMANDS: dict[str, str] = {
+    "check": "vmach.commands.check",
+    "run": "vmach.commands.run",
+    "verify": "vmach.commands.verify",
+    "fk": "vmach.commands.fk",
+    "ik": "vmach.commands.ik",
+    "postcheck": "vmach.commands.postcheck",
+    "profile": "vmach.commands.profile",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # usage errors exit 2 with one clear line
+        self.print_usage(sys.stderr)
+        sys.stderr.write(f"vmach: error[usage]: {message}\n")
+        raise SystemExit(2)
+
+
+def build_parser() -> tuple[argparse.ArgumentParser, dict[str, object]]:
+    parser = _Parser(prog="vmach", description="G-code verifier and virtual machine simulator.")
+    parser.add_argument("--version", action="version", version=f"vmach {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    modules: dict[str, object] = {}
+    for name, modname in COMMANDS.items():
+        try:
+            mod = importlib.import_module(modname)
+        except ModuleNotFoundError as exc:
+            if exc.name == modname:
+                continue
+            raise
+        p = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
+        mod.add_arguments(p)
+        modules[name] = mod
+    return parser, modules
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser, modules = build_parser()
+    args = parser.parse_args(argv)
+    if not args.command:
+        parser.print_help(sys.stderr)
+        return 2
+    try:
+        return int(modules[args.command].run(args))  # type: ignore[attr-defined]
+    except VmachError as exc:
+        for f in exc.findings():
+            sys.stderr.write(f.render() + "\n")
+        return exc.exit_code
+    except KeyboardInterrupt:
+        sys.stderr.write("vmach: interrupted\n")
+        return 130
+    except BrokenPipeError:
+        return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
