@@ -7,7 +7,13 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-INTERPRETER_MAY_IMPORT = {"vmach.canon", "vmach.source", "vmach.errors", "vmach.findings", "vmach.tol"}
+INTERPRETER_MAY_IMPORT = {
+    "vmach.canon",
+    "vmach.source",
+    "vmach.errors",
+    "vmach.findings",
+    "vmach.tol",
+}
 HEAVY_OWNERS = {
     "manifold3d": {"vmach/stock/engine.py"},
     "pyvista": {"vmach/report/render.py"},

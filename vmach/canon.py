@@ -125,7 +125,11 @@ class Command:
         return {}
 
     def to_json(self) -> dict[str, Any]:
-        out: dict[str, Any] = {"kind": self.kind, "file": self.source.path, "line": self.source.line}
+        out: dict[str, Any] = {
+            "kind": self.kind,
+            "file": self.source.path,
+            "line": self.source.line,
+        }
         out.update(self.fields())
         return out
 
@@ -374,8 +378,12 @@ def format_text(cmd: Command, index: int) -> str:
             continue
         elif isinstance(val, float):
             parts.append(f"{key}={_num(val)}")
+        elif isinstance(val, dict):
+            parts.append(f"{key}=" + ",".join(f"{k}:{_num(v)}" for k, v in val.items()))
         elif isinstance(val, list):
-            parts.append(f"{key}=" + ",".join(_num(x) if isinstance(x, float) else str(x) for x in val))
+            parts.append(
+                f"{key}=" + ",".join(_num(x) if isinstance(x, float) else str(x) for x in val)
+            )
         elif isinstance(val, str):
             parts.append(f"{key}={json.dumps(val, ensure_ascii=False)}")
         else:

@@ -1,0 +1,392 @@
+"""Compile one block into a closure ``op() -> next block index`` (or END_LEVEL/CALL/STOP).
+
+Control blocks become tiny closures over their compiled condition and their partner index;
+NC blocks evaluate their items left to right into :class:`Values` and hand them to
+:meth:`Machine.apply`. A block holding only assignments skips all of that.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik.execute import Values
+from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num
+from vmach import canon
+from vmach.errors import ProgramError
+from vmach.source import SourceRef
+
+if TYPE_CHECKING:
+    from interpreters.sinumerik.interpreter import Interpreter
+
+END_LEVEL, CALL, STOP = -1, -2, -3
+
+
+def compile_block(it: Interpreter, program: b.Program, blk: b.Block) -> Callable[[], int]:
+    i = blk.index
+    nxt = i + 1
+    kind = blk.kind
+    env = it.env
+    src = SourceRef(program.path, blk.line, 1, blk.text)
+
+    def unbalanced(what: str) -> Callable[[], int]:
+        def op():
+            raise ProgramError("unbalanced_block", what, src)
+
+        return op
+
+    if kind in ("empty", "label", "proc"):
+        return lambda: nxt
+    if kind == "bad":
+        finding = blk.error
+
+        def bad():
+            raise ProgramError(finding.kind, finding.message, finding.source)
+
+        return bad
+    if kind == "def":
+        inits = []
+        for d in blk.defs:
+            if d.init is not None:
+                inits.append((it.setter(b.Target(name=d.name)), compile_expr(d.init, env)))
+            for k, node in enumerate(d.init_list):
+                idx = b.Target(name=d.name, index=(_const(k, d.col),))
+                inits.append((it.setter(idx), compile_expr(node, env)))
+
+        def define():
+            for setter, f in inits:
+                setter(f())
+            return nxt
+
+        return define
+    if kind == "if":
+        cond = compile_expr(blk.cond, env)
+        if blk.partner < 0:
+            return unbalanced("IF without ENDIF")
+        other = blk.partner2 + 1 if blk.partner2 >= 0 else blk.partner
+        return lambda: nxt if cond() else other
+    if kind == "else":
+        if blk.partner2 < 0:
+            return unbalanced("ELSE without IF/ENDIF")
+        end = blk.partner2
+        return lambda: end
+    if kind in ("endif", "repeat", "loop"):
+        return lambda: nxt
+    if kind == "while":
+        if blk.partner < 0:
+            return unbalanced("WHILE without ENDWHILE")
+        cond = compile_expr(blk.cond, env)
+        out = blk.partner + 1
+        return lambda: nxt if cond() else out
+    if kind in ("endwhile",):
+        if blk.partner < 0:
+            return unbalanced("ENDWHILE without WHILE")
+        back = blk.partner
+        return lambda: back
+    if kind == "until":
+        if blk.partner < 0:
+            return unbalanced("UNTIL without REPEAT")
+        cond = compile_expr(blk.cond, env)
+        body = blk.partner + 1
+        return lambda: nxt if cond() else body
+    if kind == "endloop":
+        if blk.partner < 0:
+            return unbalanced("ENDLOOP without LOOP")
+        body = blk.partner + 1
+        return lambda: body
+    if kind == "for":
+        return _for(it, program, blk, src)
+    if kind == "endfor":
+        return _endfor(it, program, blk, src)
+    if kind == "case":
+        sel = compile_expr(blk.cond, env)
+        cases = [(compile_expr(v, env), it.jump_target(program, blk, j)) for v, j in blk.cases]
+        default = it.jump_target(program, blk, blk.default) if blk.default else (lambda: nxt)
+
+        def case():
+            x = sel()
+            for value, target in cases:
+                if eq(x, value()):
+                    return target()
+            return default()
+
+        return case
+    return _nc(it, program, blk, src)
+
+
+def _const(v, col):
+    from interpreters.sinumerik.expr import Node
+
+    return Node("num", col, v)
+
+
+def _for(it, program, blk, src):
+    env = it.env
+    if blk.partner < 0:
+
+        def op():
+            raise ProgramError("unbalanced_block", "FOR without ENDFOR", src)
+
+        return op
+    setter = it.setter(blk.for_target)
+    start = compile_expr(blk.for_start, env)
+    stop = compile_expr(blk.for_end, env)
+    getter = _getter(it, blk.for_target)
+    i, out = blk.index, blk.partner + 1
+
+    def op():
+        setter(start())
+        end = num(stop())
+        it.stack[-1].for_end[i] = end
+        v = num(getter())
+        return i + 1 if v < end or eq(v, end) else out
+
+    return op
+
+
+def _endfor(it, program, blk, src):
+    if blk.partner < 0:
+
+        def bad():
+            raise ProgramError("unbalanced_block", "ENDFOR without FOR", src)
+
+        return bad
+    head = program.blocks[blk.partner]
+    setter = it.setter(head.for_target)
+    getter = _getter(it, head.for_target)
+    h, body, nxt = head.index, head.index + 1, blk.index + 1
+
+    def op():
+        v = num(getter()) + 1
+        setter(v)
+        end = it.stack[-1].for_end.get(h)
+        if end is None:
+            raise ProgramError("unbalanced_block", "ENDFOR reached without passing its FOR", src)
+        v = num(getter())
+        return body if v < end or eq(v, end) else nxt
+
+    return op
+
+
+def _getter(it, target: b.Target):
+    from interpreters.sinumerik.expr import Node
+
+    if target.name is None:
+        node = Node("r", 1, target.r if target.r is not None else target.r_expr)
+    else:
+        node = Node("var", 1, target.name, target.index)
+    return compile_expr(node, it.env)
+
+
+def _nc(it: Interpreter, program: b.Program, blk: b.Block, src: SourceRef) -> Callable[[], int]:
+    env = it.env
+    nxt = blk.index + 1
+    cond = compile_expr(blk.cond, env) if blk.cond is not None else None
+    target = it.jump_target(program, blk, blk.jump) if blk.jump is not None else None
+    items = blk.items
+
+    if all(isinstance(x, b.Assign) for x in items):
+        pairs = [(it.setter(x.target), compile_expr(x.expr, env), x.col) for x in items]
+        if len(pairs) == 1 and target is None:
+            setter, f, col = pairs[0]
+
+            def assign1():
+                try:
+                    setter(f())
+                except EvalError as exc:
+                    raise ProgramError(exc.kind, exc.message, src.at(col)) from None
+                return nxt
+
+            return assign1
+
+        def assign_block():
+            for setter, f, col in pairs:
+                try:
+                    setter(f())
+                except EvalError as exc:
+                    raise ProgramError(exc.kind, exc.message, src.at(col)) from None
+            if target is None:
+                return nxt
+            if cond is None or cond():
+                return target()
+            return nxt
+
+        return assign_block
+
+    steps = [_step(it, item) for item in items]
+    machine = it.machine
+    out = it.out
+
+    def nc():
+        v = Values()
+        for step, col in steps:
+            try:
+                step(v)
+            except EvalError as exc:
+                raise ProgramError(exc.kind, exc.message, src.at(col)) from None
+        end = machine.apply(v, src) or v.end
+        call = v.call
+        if call is not None:
+            if end is not None:
+                raise ProgramError(
+                    "unsupported", "a subprogram call and a program end in one block", src
+                )
+            name, args, col = call
+            repeat = v.repeat if v.repeat is not None else 1
+            if repeat < 1:
+                raise ProgramError(
+                    "invalid_value", f"P{repeat}: the repeat count must be at least 1", src
+                )
+            ret = nxt
+            if target is not None and (cond is None or cond()):
+                ret = target()
+            it.pending = (name, args, src.at(col), repeat, ret)
+            return CALL
+        if end is not None:
+            if len(it.stack) == 1:
+                out.append(canon.ProgramEnd(src, code=end))
+                return STOP
+            return END_LEVEL
+        if target is not None and (cond is None or cond()):
+            return target()
+        return nxt
+
+    return nc
+
+
+def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
+    env = it.env
+    col = item.col
+    if isinstance(item, b.Assign):
+        setter = it.setter(item.target)
+        f = compile_expr(item.expr, env)
+        return (lambda v: setter(f())), col
+    if isinstance(item, b.Word):
+        f = compile_expr(item.expr, env)
+        kind = item.kind
+        if kind == "axis":
+            return (lambda v: v.axes.append((item, _number(f(), item.name)))), col
+        if kind in ("interp", "cr", "turn"):
+            name, mode = item.name, item.mode
+            return (lambda v: v.interp.__setitem__(name, (_number(f(), name), mode))), col
+        if kind == "feed":
+
+            def feed(v):
+                v.feed = float(_number(f(), "F"))
+
+            return feed, col
+        if kind == "speed":
+            idx = item.index
+            return (lambda v: v.speeds.append((idx, float(_number(f(), "S"))))), col
+        if kind == "m":
+            idx = item.index
+
+            def m(v):
+                val = _number(f(), item.name)
+                if val != int(val) or val < 0:
+                    raise EvalError("invalid_value", f"M functions are whole numbers, got {val}")
+                v.ms.append((idx, int(val), col))
+
+            return m, col
+        if kind == "tool":
+
+            def tool(v):
+                val = f()
+                if not isinstance(val, str):
+                    val = _number(val, "T")
+                    if val != int(val) or val < 0:
+                        raise EvalError("invalid_value", f"T{val}: tool numbers are whole numbers")
+                v.tool = val
+
+            return tool, col
+        if kind == "edge":
+
+            def edge(v):
+                val = _number(f(), "D")
+                if val != int(val) or val < 0:
+                    raise EvalError("invalid_value", f"D{val}: offset numbers are whole numbers")
+                v.edge = int(val)
+
+            return edge, col
+        if kind == "repeat":
+
+            def rep(v):
+                v.repeat = int(_number(f(), "P"))
+
+            return rep, col
+        name = item.name
+        return (lambda v: v.cycles.append((name, [f()]))), col  # H, SPOS: passed on as events
+    if isinstance(item, b.GCode):
+        code = item.code
+        if item.machine:
+            return (lambda v: v.cycles.append((code.name, []))), col
+        return (lambda v: v.gcodes.append((col, code))), col
+    if isinstance(item, b.FrameCmd):
+        fs = [(w.name, compile_expr(w.expr, env)) for w in item.words]
+        rpl = compile_expr(item.rpl, env) if item.rpl is not None else None
+
+        def frame(v):
+            v.frame = item
+            v.frame_values = {n: float(_number(g(), n)) for n, g in fs}
+            v.rpl = float(_number(rpl(), "RPL")) if rpl is not None else None
+
+        return frame, col
+    if isinstance(item, b.Builtin):
+        fs = [compile_expr(a, env) if a is not None else None for a in item.args]
+        name = item.name
+        if name == "SETMS":
+
+            def setms(v):
+                s = _number(fs[0](), "SETMS") if fs and fs[0] else it.control.master_spindle
+                v.setms = int(s)
+
+            return setms, col
+        if name == "MSG":
+
+            def msg(v):
+                val = fs[0]() if fs and fs[0] else ""
+                v.msg = val if isinstance(val, str) else str(val)
+
+            return msg, col
+        return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
+    if isinstance(item, b.Call):
+        fs = [compile_expr(a, env) if a is not None else None for a in item.args]
+        targets = [_ref_target(a) for a in item.args]
+        name = item.name
+        if item.cycle:
+            return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
+
+        def call(v):
+            v.call = (
+                name,
+                [((g() if g else None), t) for g, t in zip(fs, targets, strict=True)],
+                col,
+            )
+
+        return call, col
+    if isinstance(item, b.Keyword):
+        if item.name == "RET":
+
+            def ret(v):
+                v.end = "RET"
+
+            return ret, col
+        return (lambda v: None), col
+    raise AssertionError(f"unknown item {item!r}")
+
+
+def _ref_target(node) -> b.Target | None:
+    if node is None:
+        return None
+    if node.op == "r" and isinstance(node.value, int):
+        return b.Target(r=node.value)
+    if node.op == "var":
+        return b.Target(name=node.value, index=node.args)
+    return None
+
+
+def _number(v, name: str):
+    if isinstance(v, str):
+        raise EvalError("type_error", f"{name} needs a number, not the string {v!r}")
+    return v

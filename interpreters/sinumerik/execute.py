@@ -1,0 +1,458 @@
+"""Phase 3b: the effect of one NC block on the control's state, and the canonical commands it
+emits, in a fixed order (as LinuxCNC's ``interp_execute.cc`` fixes its own):
+
+ 1. MSG                          7. spindle M3/M4/M5, ``M<n>=3`` ...
+ 2. modal G codes (plane, G90/91, 8. coolant M7/M8/M9
+    units, feed type, DIAMON,    9. frame instructions (TRANS, ROT ...)
+    G54..., G64 ...)            10. dwell G4
+ 3. SETMS                       11. machine cycles and machine G codes
+ 4. feed F                      12. motion (G0/G1/G2/G3 with the block's axis words)
+ 5. spindle speeds S, ``S<n>=``  13. M0/M1, then subprogram calls, then M2/M30/M17/RET
+ 6. tool T (and D), D alone
+
+Word values were evaluated left to right before this (assignments take effect in place).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from interpreters.sinumerik.blocks import FrameCmd, Word
+from interpreters.sinumerik.expr import EvalError
+from interpreters.sinumerik.frames import Frames, modulo_target, rot_axis, rpy
+from vmach import canon
+from vmach.canon import AxisSpec, ControlSpec
+from vmach.errors import ProgramError
+from vmach.source import SourceRef
+
+PLANES = {"G17": ("X", "Y", "Z"), "G18": ("Z", "X", "Y"), "G19": ("Y", "Z", "X")}
+PLANE_NORMAL = {"G17": 2, "G18": 1, "G19": 0}
+FEED_MODES = {
+    "G93": "inverse_time",
+    "G94": "per_minute",
+    "G95": "per_rev",
+    "G97": "per_rev",
+    "G971": "per_minute",
+    "G972": "per_minute",
+    "G973": "per_rev",
+    "G942": "per_minute",
+    "G952": "per_rev",
+}
+INCH = 25.4
+
+
+@dataclass(slots=True)
+class Values:
+    """Everything one block programmed, values already evaluated."""
+
+    gcodes: list = field(default_factory=list)  # (col, Code)
+    machine_codes: list = field(default_factory=list)
+    axes: list = field(default_factory=list)  # (Word, value)
+    interp: dict = field(default_factory=dict)  # name -> (value, mode)
+    feed: float | None = None
+    speeds: list = field(default_factory=list)  # (spindle or None, value)
+    ms: list = field(default_factory=list)  # (spindle or None, value, col)
+    tool: object = None
+    edge: int | None = None
+    frame: FrameCmd | None = None
+    frame_values: dict = field(default_factory=dict)
+    rpl: float | None = None
+    setms: int | None = None
+    msg: str | None = None
+    cycles: list = field(default_factory=list)  # (name, args)
+    repeat: int | None = None
+    call: tuple | None = None  # (name, [(value, by-reference target)], col)
+    end: str | None = None  # "RET"
+
+
+class Machine:
+    """The control's state as the interpreter sees it, and the command sink."""
+
+    def __init__(self, control: ControlSpec, out: list):
+        self.control = control
+        self.out = out
+        self.specs: dict[str, AxisSpec] = {a.name: a for a in control.axes}
+        self.names: list[str] = [a.name for a in control.axes]
+        for g in control.geometry:
+            if g not in self.specs:
+                self.add_axis(g)
+        self.pos: dict[str, float] = {n: self.specs[n].home for n in self.names}
+        self.geometry = control.geometry
+        self.frames = Frames(control.geometry)
+        self.motion = "G0"
+        self.plane = "G17"
+        self.absolute = True
+        self.inch = False
+        self.feed_mode = "per_minute"
+        self.feed = 0.0
+        self.diameter = False
+        self.diam90 = False
+        self.offset_code = "G500"
+        self.path_mode = "G64"
+        self.master = control.master_spindle
+        self.spindles: dict[int, list] = {s: [0.0, "stop"] for s in control.spindles}
+        self.coolant: set[str] = set()
+        self.tool: str | None = None
+
+    def add_axis(self, name: str) -> None:
+        kind = "rotary" if name[0] in "ABC" else "linear"
+        self.specs[name] = AxisSpec(name, kind)
+        self.names.append(name)
+        if hasattr(self, "pos"):
+            self.pos[name] = 0.0
+
+    def modal_state(self) -> dict:
+        return {
+            k: getattr(self, k)
+            for k in (
+                "motion",
+                "plane",
+                "absolute",
+                "inch",
+                "feed_mode",
+                "diameter",
+                "diam90",
+                "offset_code",
+                "path_mode",
+            )
+        } | {"frames": (dict(self.frames.settable), dict(self.frames.trans), self.frames.rot)}
+
+    def restore(self, state: dict, src: SourceRef) -> None:
+        frames = state.pop("frames")
+        for k, v in state.items():
+            setattr(self, k, v)
+        self.frames.settable, self.frames.trans, self.frames.rot = frames
+        self.frames.rotated = self.frames.rot != ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+        self.emit_frame(src)
+        self.out.append(canon.PlaneSelect(src, plane=PLANES[self.plane]))
+        self.out.append(canon.FeedMode(src, mode=self.feed_mode))
+
+    def emit_frame(self, src: SourceRef) -> None:
+        self.out.append(
+            canon.SetFrame(
+                src, origin=self.frames.origin(self.names), rotation=self.frames.rotation_flat()
+            )
+        )
+
+    # ------------------------------------------------------------------------------------
+    def apply(self, v: Values, src: SourceRef) -> str | None:
+        """Carry out the block; return 'M2', 'M30' or 'M17' when it ends its program level."""
+        out = self.out
+        if v.msg is not None:
+            out.append(canon.Message(src, text=v.msg))
+        dwell = False
+        suppress = False
+        for col, code in v.gcodes:
+            name = code.name
+            grp = code.group
+            if grp == 1:
+                self.motion = name
+            elif grp == 2:
+                dwell = True
+            elif grp == 6:
+                if name != self.plane:
+                    self.plane = name
+                    out.append(canon.PlaneSelect(src, plane=PLANES[name]))
+            elif grp == 14:
+                self.absolute = name == "G90"
+            elif grp == 13:
+                self.inch = name in ("G70", "G700")
+            elif grp == 15:
+                mode = FEED_MODES[name]
+                if mode != self.feed_mode:
+                    self.feed_mode = mode
+                    out.append(canon.FeedMode(src, mode=mode))
+            elif grp == 29:
+                self.diameter = name in ("DIAMON", "DIAM90")
+                self.diam90 = name == "DIAM90"
+                if self.diameter and not self.control.transverse and self.control.strict_axes:
+                    raise ProgramError(
+                        "no_transverse_axis",
+                        f"{name}: the machine has no transverse axis",
+                        src.at(col),
+                    )
+            elif grp == 8:
+                self.offset_code = name
+                offsets = {} if name == "G500" else dict(self.control.zero_offsets.get(name, {}))
+                self.frames.set_settable(offsets)
+                self.emit_frame(src)
+            elif grp == 9:
+                suppress = True
+            elif grp == 10:
+                self.path_mode = name
+        if v.setms is not None:
+            if v.setms not in self.spindles:
+                if self.control.strict_axes:
+                    raise ProgramError(
+                        "unknown_spindle",
+                        f"SETMS({v.setms}): the machine has no spindle {v.setms}",
+                        src,
+                    )
+                self.spindles[v.setms] = [0.0, "stop"]
+            self.master = v.setms
+            out.append(canon.MasterSpindle(src, spindle=v.setms))
+        if v.feed is not None and not dwell:
+            if v.feed < 0:
+                raise ProgramError("invalid_value", f"negative feed F{v.feed}", src)
+            self.feed = v.feed * (INCH if self.inch and self.feed_mode != "inverse_time" else 1.0)
+        changed: dict[int, None] = {}
+        for spindle, value in v.speeds:
+            if spindle is None and dwell:
+                continue
+            s = self.master if spindle is None else spindle
+            self._spindle(s, src)[0] = float(value)
+            if value < 0:
+                raise ProgramError("invalid_value", f"negative spindle speed {value}", src)
+            changed[s] = None
+        if v.tool is not None:
+            t = v.tool
+            number = int(t) if not isinstance(t, str) else None
+            name = t if isinstance(t, str) else str(int(t))
+            self.tool = name
+            out.append(canon.ToolChange(src, tool=name, number=number, offset=v.edge))
+        elif v.edge is not None:
+            out.append(canon.ToolOffset(src, offset=v.edge))
+        end = None
+        pause = None
+        for spindle, m, col in v.ms:
+            if spindle is not None:
+                if m not in (3, 4, 5):
+                    out.append(canon.CycleCall(src, name=f"M{spindle}={m}"))
+                    continue
+                s = spindle
+            elif m in (3, 4, 5):
+                s = self.master
+            elif m in (7, 8):
+                self.coolant.add("mist" if m == 7 else "flood")
+                out.append(canon.Coolant(src, mode="+".join(sorted(self.coolant))))
+                continue
+            elif m == 9:
+                self.coolant.clear()
+                out.append(canon.Coolant(src, mode="off"))
+                continue
+            elif m in (0, 1):
+                pause = m
+                continue
+            elif m in (2, 30, 17):
+                end = f"M{m}"
+                continue
+            elif m == 6:
+                continue  # tools change at T on this control (tool change mode "T")
+            else:
+                out.append(canon.CycleCall(src, name=f"M{m}"))
+                continue
+            st = self._spindle(s, src.at(col))
+            st[1] = {3: "cw", 4: "ccw", 5: "stop"}[m]
+            changed[s] = None
+        for s in changed:
+            st = self.spindles[s]
+            out.append(canon.Spindle(src, spindle=s, speed=st[0], direction=st[1]))
+        if v.frame is not None:
+            self.frame(v, src)
+        if dwell:
+            if v.feed is not None:
+                out.append(canon.Dwell(src, seconds=float(v.feed)))
+            else:
+                revs = next((val for sp, val in v.speeds if sp is None), None)
+                if revs is None:
+                    raise ProgramError("syntax", "G4 needs F (seconds) or S (revolutions)", src)
+                out.append(canon.Dwell(src, revolutions=float(revs)))
+        for name, args in v.cycles:
+            out.append(canon.CycleCall(src, name=name, args=tuple(args)))
+        if v.axes or (self.motion in ("G2", "G3") and v.interp):
+            self.move(v, src, suppress)
+        if pause is not None:
+            out.append(canon.Pause(src, optional=pause == 1))
+        return end
+
+    def _spindle(self, s: int, src: SourceRef) -> list:
+        if s not in self.spindles:
+            if self.control.strict_axes:
+                raise ProgramError("unknown_spindle", f"the machine has no spindle {s}", src)
+            self.spindles[s] = [0.0, "stop"]
+        return self.spindles[s]
+
+    # ------------------------------------------------------------------------------------
+    def frame(self, v: Values, src: SourceRef) -> None:
+        fc = v.frame
+        vals = v.frame_values
+        scale = INCH if self.inch else 1.0
+        if fc.name in ("TRANS", "ATRANS"):
+            d = {
+                k: (val * scale if self.specs[k].kind == "linear" else val)
+                for k, val in vals.items()
+            }
+            (self.frames.trans_abs if fc.name == "TRANS" else self.frames.trans_add)(d)
+        else:
+            if v.rpl is not None:
+                if vals:
+                    raise ProgramError(
+                        "syntax", f"{fc.name}: give RPL or axis angles, not both", src.at(fc.col)
+                    )
+                m = rot_axis(PLANE_NORMAL[self.plane], v.rpl)
+            else:
+                g = self.geometry
+                for k in vals:
+                    if k not in g:
+                        raise ProgramError(
+                            "syntax", f"{fc.name}: {k} is not a geometry axis", src.at(fc.col)
+                        )
+                m = rpy(vals.get(g[0], 0.0), vals.get(g[1], 0.0), vals.get(g[2], 0.0))
+            if fc.name == "ROT":
+                self.frames.rot_abs(m)
+            else:
+                self.frames.rot_add(m)
+        self.emit_frame(src)
+
+    # ------------------------------------------------------------------------------------
+    def move(self, v: Values, src: SourceRef, suppress: bool) -> None:
+        pos = self.pos
+        new = dict(pos)
+        g = self.geometry
+        frames = self.frames
+        geo_words = []
+        scale = INCH if self.inch else 1.0
+        for word, value in v.axes:
+            name = word.name
+            spec = self.specs.get(name)
+            if spec is None:
+                self.add_axis(name)
+                spec = self.specs[name]
+                new[name] = 0.0
+            if not isinstance(value, (int, float)) or isinstance(value, bool):
+                raise ProgramError("type_error", f"{name} needs a number", src.at(word.col))
+            mode = word.mode
+            if name in g:
+                geo_words.append((word, float(value)))
+                continue
+            value = float(value)
+            if spec.kind == "linear":
+                value *= scale
+            if spec.modulo and mode in ("ACP", "ACN", "DC"):
+                off = 0.0 if suppress else frames.offset(name)
+                new[name] = modulo_target(pos[name], value + off, mode, spec.modulo)
+            elif mode in ("ACP", "ACN", "DC"):
+                raise ProgramError(
+                    "invalid_value",
+                    f"{mode} needs a modulo rotary axis; {name} is not one",
+                    src.at(word.col),
+                )
+            elif mode == "IC" or (mode is None and not self.absolute):
+                new[name] = pos[name] + value
+            else:
+                off = 0.0 if suppress else frames.offset(name)
+                if spec.modulo:
+                    new[name] = modulo_target(
+                        pos[name], value + off, "DC" if spec.g90_mode == "dc" else "AC", spec.modulo
+                    )
+                else:
+                    new[name] = value + off
+        transverse = self.control.transverse or ("X" if not self.control.strict_axes else None)
+        if geo_words:
+            cur = tuple(pos[n] for n in g)
+            p = list(cur) if suppress else list(frames.to_program(cur))
+            for word, value in geo_words:
+                i = g.index(word.name)
+                inc = word.mode == "IC" or (word.mode is None and not self.absolute)
+                value *= scale
+                if self.diameter and word.name == transverse and not (inc and self.diam90):
+                    value /= 2.0
+                p[i] = p[i] + value if inc else value
+            m = p if suppress else frames.to_machine(tuple(p))
+            for i, n in enumerate(g):
+                new[n] = m[i]
+        motion = self.motion
+        if motion in ("G2", "G3"):
+            self.arc(v, src, new, suppress)
+        elif motion == "G0":
+            self.out.append(canon.Traverse(src, axes=new))
+        else:
+            if self.feed <= 0:
+                raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
+            self.out.append(canon.LinearFeed(src, axes=new, feed=self.feed))
+        self.pos = new
+
+    def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool) -> None:
+        g = self.geometry
+        plane = PLANES[self.plane]
+        a_name, b_name, _ = plane
+        ia, ib = g.index(a_name), g.index(b_name)
+        frames = self.frames
+        start = tuple(self.pos[n] for n in g)
+        ps = start if suppress else frames.to_program(start)
+        pe = tuple(new[n] for n in g)
+        pe = pe if suppress else frames.to_program(pe)
+        scale = INCH if self.inch else 1.0
+        letters = {"X": "I", "Y": "J", "Z": "K"}
+        la, lb = letters[a_name], letters[b_name]
+        cw = self.motion == "G2"
+        if "CR" in v.interp:
+            r = float(v.interp["CR"][0]) * scale
+            c = _centre_from_radius(ps[ia], ps[ib], pe[ia], pe[ib], r, cw, src)
+            ca, cb = c
+        else:
+            if la not in v.interp and lb not in v.interp:
+                raise ProgramError("arc_error", f"{self.motion} needs {la}/{lb} or CR=", src)
+            vals = []
+            for letter, i in ((la, ia), (lb, ib)):
+                val, mode = v.interp.get(letter, (0.0, None))
+                val = float(val) * scale
+                vals.append(val if mode == "AC" else ps[i] + val)
+            ca, cb = vals
+        r0 = math.hypot(ps[ia] - ca, ps[ib] - cb)
+        r1 = math.hypot(pe[ia] - ca, pe[ib] - cb)
+        if r0 < 1e-9:
+            raise ProgramError("arc_error", "circle with zero radius", src)
+        allowed = max(0.01, 0.001 * r0)
+        if abs(r1 - r0) > allowed:
+            raise ProgramError(
+                "arc_error",
+                f"end point is not on the circle: radius {r0:.4f} at the start, "
+                f"{r1:.4f} at the end",
+                src,
+                start_radius=r0,
+                end_radius=r1,
+            )
+        centre3 = list(ps)
+        centre3[ia], centre3[ib] = ca, cb
+        cm = centre3 if suppress else frames.to_machine(tuple(centre3))
+        turns = int(v.interp.get("TURN", (0, None))[0])
+        if self.feed <= 0:
+            raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
+        self.out.append(
+            canon.ArcFeed(
+                src,
+                axes=new,
+                plane=plane,
+                center=(cm[ia], cm[ib]),
+                clockwise=cw,
+                turns=turns,
+                feed=self.feed,
+            )
+        )
+
+
+def _centre_from_radius(xa, ya, xb, yb, r, cw, src):
+    """Centre of the arc from (xa, ya) to (xb, yb) with radius r (r < 0: more than 180°)."""
+    dx, dy = xb - xa, yb - ya
+    chord = math.hypot(dx, dy)
+    if chord < 1e-12:
+        raise ProgramError("arc_error", "CR= cannot describe a full circle", src)
+    if chord > 2 * abs(r) + 1e-9:
+        raise ProgramError("arc_error", f"CR={r}: the end point is farther than the diameter", src)
+    h = math.sqrt(max(r * r - chord * chord / 4.0, 0.0))
+    mx, my = (xa + xb) / 2.0, (ya + yb) / 2.0
+    # left normal of the chord; a clockwise minor arc has its centre on the right
+    nx, ny = -dy / chord, dx / chord
+    side = -1.0 if cw else 1.0
+    if r < 0:
+        side = -side
+    return mx + side * h * nx, my + side * h * ny
+
+
+def values_error(kind: str, message: str, src: SourceRef, col: int) -> ProgramError:
+    return ProgramError(kind, message, src.at(col))
+
+
+__all__ = ["Machine", "Values", "EvalError", "Word"]

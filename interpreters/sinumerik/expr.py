@@ -1,0 +1,538 @@
+"""Sinumerik arithmetic: a Pratt parser and a compiler to closures. Never ``eval``.
+
+Operator priority, highest first (Programming Manual, Job planning, "Priority of the
+operations"): NOT B_NOT (and unary signs) · ``* / DIV MOD`` · ``+ -`` · B_AND · B_XOR · B_OR ·
+AND · XOR · OR · ``<<`` · comparisons ``== <> > < >= <=``. Equal priority evaluates left to right.
+So ``IF R1>0 AND R2>0`` compares ``R1 > (0 AND R2) > 0``, as the control does; write
+parentheses.
+
+Semantics kept from the control:
+- comparisons test *relative* equality, |a − b| ≤ 1e-12·max(|a|, |b|), also for ``<`` and ``>``;
+- ``/`` always divides as REAL (3/4 = 0.75); ``DIV`` truncates toward zero to an INT;
+  ``MOD`` is the remainder with the sign of the dividend (REAL operands allowed);
+- angles of SIN, COS, TAN, ASIN, ACOS, ATAN2 are degrees; ``POT(x)`` is x²; ROUND rounds half
+  away from zero; ROUNDUP rounds away from zero; TRUNC toward zero.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token
+from vmach.tol import tol
+
+Value = float | int | str | bool
+
+
+class EvalError(Exception):
+    """A runtime error inside an expression; the executor adds the source position."""
+
+    def __init__(self, kind: str, message: str):
+        super().__init__(message)
+        self.kind = kind
+        self.message = message
+
+
+class ParseError(Exception):
+    def __init__(self, kind: str, message: str, col: int):
+        super().__init__(message)
+        self.kind = kind
+        self.message = message
+        self.col = col
+
+
+# ------------------------------------------------------------------------------------------
+# AST
+# ------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class Node:
+    op: str  # "num" "str" "r" "var" "call" "neg" "pos" "not" "bnot" or a binary operator
+    col: int
+    value: Any = None  # literal value, R index (int or Node), variable / function name
+    args: tuple[Node, ...] = ()
+
+
+CONSTANTS: dict[str, Value] = {"TRUE": True, "FALSE": False, "$PI": math.pi}
+
+BINARY_PRIORITY: dict[str, int] = {
+    "==": 1,
+    "<>": 1,
+    "<": 1,
+    ">": 1,
+    "<=": 1,
+    ">=": 1,
+    "<<": 2,
+    "OR": 3,
+    "XOR": 4,
+    "AND": 5,
+    "B_OR": 6,
+    "B_XOR": 7,
+    "B_AND": 8,
+    "+": 9,
+    "-": 9,
+    "*": 10,
+    "/": 10,
+    "DIV": 10,
+    "MOD": 10,
+}
+PREFIX_PRIORITY = 11
+
+#: function name -> (min args, max args)
+FUNCTIONS: dict[str, tuple[int, int]] = {
+    "SIN": (1, 1),
+    "COS": (1, 1),
+    "TAN": (1, 1),
+    "ASIN": (1, 1),
+    "ACOS": (1, 1),
+    "ATAN2": (2, 2),
+    "SQRT": (1, 1),
+    "ABS": (1, 1),
+    "POT": (1, 1),
+    "TRUNC": (1, 1),
+    "ROUND": (1, 1),
+    "ROUNDUP": (1, 1),
+    "MIN": (2, 2),
+    "MAX": (2, 2),
+    "LN": (1, 1),
+    "EXP": (1, 1),
+    "MINVAL": (2, 2),
+    "MAXVAL": (2, 2),
+    "BOUND": (3, 3),
+}
+
+
+class ExprParser:
+    """Parses expressions out of a block's token list.
+
+    is_variable(name) tells whether a name was declared with DEF (or is a PROC parameter).
+    """
+
+    def __init__(self, tokens: list[Token], pos: int, is_variable: Callable[[str], bool]):
+        self.toks = tokens
+        self.pos = pos
+        self.is_variable = is_variable
+
+    @property
+    def tok(self) -> Token:
+        return self.toks[self.pos]
+
+    def expect_op(self, text: str) -> Token:
+        t = self.tok
+        if t.kind != OP or t.text != text:
+            found = "end of block" if t.kind == END else repr(t.text)
+            raise ParseError("syntax", f"expected {text!r}, found {found}", t.col)
+        self.pos += 1
+        return t
+
+    def parse(self, min_priority: int = 0) -> Node:
+        left = self._prefix()
+        while True:
+            t = self.tok
+            if t.kind not in (OP, IDENT):
+                break
+            prio = BINARY_PRIORITY.get(t.text)
+            if prio is None or prio <= min_priority:
+                break
+            self.pos += 1
+            right = self.parse(prio)
+            left = Node(t.text, t.col, None, (left, right))
+        return left
+
+    def _prefix(self) -> Node:
+        t = self.tok
+        self.pos += 1
+        if t.kind == NUM:
+            return Node("num", t.col, t.value)
+        if t.kind == STR:
+            return Node("str", t.col, t.value)
+        if t.kind == OP:
+            if t.text == "(":
+                inner = self.parse()
+                self.expect_op(")")
+                return inner
+            if t.text == "-":
+                return Node("neg", t.col, None, (self.parse(PREFIX_PRIORITY - 1),))
+            if t.text == "+":
+                return self.parse(PREFIX_PRIORITY - 1)
+        if t.kind == IDENT:
+            name = t.text
+            if name == "NOT":
+                return Node("not", t.col, None, (self.parse(PREFIX_PRIORITY - 1),))
+            if name == "B_NOT":
+                return Node("bnot", t.col, None, (self.parse(PREFIX_PRIORITY - 1),))
+            return self._name(t)
+        self.pos -= 1
+        found = "end of block" if t.kind == END else repr(t.text)
+        raise ParseError("syntax", f"expected a value, found {found}", t.col)
+
+    def _name(self, t: Token) -> Node:
+        name = t.text
+        nxt = self.tok
+        if name in CONSTANTS:
+            return Node("num", t.col, CONSTANTS[name])
+        if name == "R" and nxt.kind == OP and nxt.text == "[":
+            self.pos += 1
+            idx = self.parse()
+            self.expect_op("]")
+            return Node("r", t.col, idx)
+        if len(name) > 1 and name[0] == "R" and name[1:].isdigit():
+            if int(name[1:]) >= 1000:
+                raise ParseError("index_range", f"{name} is outside R0..R999", t.col)
+            return Node("r", t.col, int(name[1:]))
+        if nxt.kind == OP and nxt.text == "(" and name in FUNCTIONS:
+            self.pos += 1
+            args: list[Node] = []
+            if not (self.tok.kind == OP and self.tok.text == ")"):
+                args.append(self.parse())
+                while self.tok.kind == OP and self.tok.text == ",":
+                    self.pos += 1
+                    args.append(self.parse())
+            self.expect_op(")")
+            lo, hi = FUNCTIONS[name]
+            if not lo <= len(args) <= hi:
+                raise ParseError(
+                    "syntax",
+                    f"{name} takes {lo if lo == hi else f'{lo}..{hi}'} argument(s), got {len(args)}",
+                    t.col,
+                )
+            return Node("call", t.col, name, tuple(args))
+        if self.is_variable(name):
+            if nxt.kind == OP and nxt.text == "[":
+                self.pos += 1
+                idx = [self.parse()]
+                while self.tok.kind == OP and self.tok.text == ",":
+                    self.pos += 1
+                    idx.append(self.parse())
+                self.expect_op("]")
+                return Node("var", t.col, name, tuple(idx))
+            return Node("var", t.col, name)
+        if name.startswith("$"):
+            raise ParseError("unsupported", f"system variable {name} is not simulated", t.col)
+        if nxt.kind == OP and nxt.text == "(":
+            raise ParseError("unknown_word", f"unknown function {name}", t.col)
+        raise ParseError("undefined_variable", f"{name} is not defined (DEF) before use", t.col)
+
+
+# ------------------------------------------------------------------------------------------
+# Evaluation helpers (shared with the interpreter)
+# ------------------------------------------------------------------------------------------
+
+_REL = tol.compare_relative
+
+
+def num(v: Value) -> float | int:
+    if isinstance(v, str):
+        raise EvalError("type_error", f"a number was expected, got the string {v!r}")
+    return v
+
+
+def eq(a: Value, b: Value) -> bool:
+    if a == b:
+        return True
+    if isinstance(a, str) or isinstance(b, str):
+        return False
+    return abs(a - b) <= _REL * max(abs(a), abs(b))
+
+
+def _lt(a, b):
+    return num(a) < num(b) and not eq(a, b)
+
+
+def _gt(a, b):
+    return num(a) > num(b) and not eq(a, b)
+
+
+def _le(a, b):
+    return num(a) < num(b) or eq(a, b)
+
+
+def _ge(a, b):
+    return num(a) > num(b) or eq(a, b)
+
+
+def _div(a, b):
+    b = num(b)
+    if b == 0:
+        raise EvalError("division_by_zero", "division by zero")
+    return num(a) / b
+
+
+def _idiv(a, b):
+    a, b = num(a), num(b)
+    if b == 0:
+        raise EvalError("division_by_zero", "DIV by zero")
+    q = a / b
+    return int(q) if abs(q) < 9e18 else q
+
+
+def _mod(a, b):
+    a, b = num(a), num(b)
+    if b == 0:
+        raise EvalError("division_by_zero", "MOD by zero")
+    return math.fmod(a, b) if isinstance(a, float) or isinstance(b, float) else int(math.fmod(a, b))
+
+
+def _int(v, what):
+    v = num(v)
+    if v != int(v):
+        raise EvalError("type_error", f"{what} needs whole numbers, got {v}")
+    return int(v)
+
+
+def _concat(a, b):
+    return _text(a) + _text(b)
+
+
+def _text(v: Value) -> str:
+    if isinstance(v, str):
+        return v
+    if isinstance(v, bool):
+        return "1" if v else "0"
+    if isinstance(v, float) and v.is_integer():
+        return str(int(v))
+    return repr(v) if isinstance(v, float) else str(v)
+
+
+BINARY: dict[str, Callable[[Any, Any], Any]] = {
+    "+": lambda a, b: num(a) + num(b),
+    "-": lambda a, b: num(a) - num(b),
+    "*": lambda a, b: num(a) * num(b),
+    "/": _div,
+    "DIV": _idiv,
+    "MOD": _mod,
+    "==": eq,
+    "<>": lambda a, b: not eq(a, b),
+    "<": _lt,
+    ">": _gt,
+    "<=": _le,
+    ">=": _ge,
+    "AND": lambda a, b: bool(num(a)) and bool(num(b)),
+    "OR": lambda a, b: bool(num(a)) or bool(num(b)),
+    "XOR": lambda a, b: bool(num(a)) != bool(num(b)),
+    "B_AND": lambda a, b: _int(a, "B_AND") & _int(b, "B_AND"),
+    "B_OR": lambda a, b: _int(a, "B_OR") | _int(b, "B_OR"),
+    "B_XOR": lambda a, b: _int(a, "B_XOR") ^ _int(b, "B_XOR"),
+    "<<": _concat,
+}
+
+
+def _sqrt(x):
+    x = num(x)
+    if x < 0:
+        raise EvalError("domain_error", f"SQRT of a negative number ({x})")
+    return math.sqrt(x)
+
+
+def _asin(x):
+    x = num(x)
+    if abs(x) > 1:
+        raise EvalError("domain_error", f"ASIN of {x} (outside -1..1)")
+    return math.degrees(math.asin(x))
+
+
+def _acos(x):
+    x = num(x)
+    if abs(x) > 1:
+        raise EvalError("domain_error", f"ACOS of {x} (outside -1..1)")
+    return math.degrees(math.acos(x))
+
+
+def _ln(x):
+    x = num(x)
+    if x <= 0:
+        raise EvalError("domain_error", f"LN of {x} (must be > 0)")
+    return math.log(x)
+
+
+def _exp(x):
+    try:
+        return math.exp(num(x))
+    except OverflowError:
+        raise EvalError("domain_error", f"EXP({x}) overflows") from None
+
+
+def _round(x):
+    x = num(x)
+    return math.floor(x + 0.5) if x >= 0 else -math.floor(-x + 0.5)
+
+
+def _roundup(x):
+    x = num(x)
+    return math.ceil(x) if x >= 0 else -math.ceil(-x)
+
+
+def _tan(x):
+    x = num(x)
+    if math.isclose(math.fmod(abs(x), 180.0), 90.0, abs_tol=1e-12):
+        raise EvalError("domain_error", f"TAN({x}) is infinite")
+    return math.tan(math.radians(x))
+
+
+def _bound(lo, hi, x):
+    lo, hi, x = num(lo), num(hi), num(x)
+    return lo if x < lo else hi if x > hi else x
+
+
+FUNC_IMPL: dict[str, Callable[..., Any]] = {
+    "SIN": lambda x: math.sin(math.radians(num(x))),
+    "COS": lambda x: math.cos(math.radians(num(x))),
+    "TAN": _tan,
+    "ASIN": _asin,
+    "ACOS": _acos,
+    "ATAN2": lambda y, x: math.degrees(math.atan2(num(y), num(x))),
+    "SQRT": _sqrt,
+    "ABS": lambda x: abs(num(x)),
+    "POT": lambda x: num(x) * num(x),
+    "TRUNC": lambda x: int(num(x)),
+    "ROUND": _round,
+    "ROUNDUP": _roundup,
+    "MIN": lambda a, b: min(num(a), num(b)),
+    "MAX": lambda a, b: max(num(a), num(b)),
+    "MINVAL": lambda a, b: min(num(a), num(b)),
+    "MAXVAL": lambda a, b: max(num(a), num(b)),
+    "BOUND": _bound,
+    "LN": _ln,
+    "EXP": _exp,
+}
+
+
+def _check_number(v):
+    if isinstance(v, float) and not math.isfinite(v):
+        raise EvalError("domain_error", "result is not a finite number")
+    return v
+
+
+# ------------------------------------------------------------------------------------------
+# Compiler
+# ------------------------------------------------------------------------------------------
+
+
+class Env:
+    """What compiled expressions read: R parameters and the current call frame's variables.
+
+    r : list of float, length 1000 — R0..R999 (global).
+    vars : dict name -> value or list — local variables of the running program level.
+    """
+
+    __slots__ = ("r", "vars")
+
+    def __init__(self) -> None:
+        self.r: list[Any] = [0.0] * 1000
+        self.vars: dict[str, Any] = {}
+
+
+def r_index(i: Any) -> int:
+    i = num(i)
+    if i != int(i) or not 0 <= i < 1000:
+        raise EvalError("index_range", f"R parameter index {i} is outside R0..R999")
+    return int(i)
+
+
+def element(value: Any, idx: list[Any], name: str) -> tuple[list, int]:
+    """The list holding element ``name[idx]`` and the position in it."""
+    cur = value
+    for k, i in enumerate(idx):
+        if not isinstance(cur, list):
+            raise EvalError("index_range", f"{name} has fewer than {k + 1} dimensions")
+        i = num(i)
+        if i != int(i) or not 0 <= i < len(cur):
+            raise EvalError("index_range", f"{name}[{i}] is outside 0..{len(cur) - 1}")
+        if k == len(idx) - 1:
+            return cur, int(i)
+        cur = cur[int(i)]
+    raise EvalError("index_range", f"{name} needs an index")
+
+
+def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
+    """A zero-argument closure computing ``node`` against ``env``. Constants are folded."""
+    op = node.op
+    if op in ("num", "str"):
+        v = node.value
+        return lambda: v
+    if op == "r":
+        r = env.r
+        if isinstance(node.value, int):
+            i = node.value
+            return lambda: r[i]
+        f = compile_expr(node.value, env)
+        return lambda: r[r_index(f())]
+    if op == "var":
+        name = node.value
+        if not node.args:
+
+            def get():
+                v = env.vars[name]
+                if isinstance(v, list):
+                    raise EvalError("type_error", f"{name} is an array; give an index")
+                return v
+
+            return get
+        fs = [compile_expr(a, env) for a in node.args]
+
+        def get_elem():
+            lst, i = element(env.vars[name], [f() for f in fs], name)
+            return lst[i]
+
+        return get_elem
+    if op == "call":
+        impl = FUNC_IMPL[node.value]
+        fs = [compile_expr(a, env) for a in node.args]
+        if all(a.op in ("num", "str") for a in node.args):
+            try:
+                v = _check_number(impl(*[a.value for a in node.args]))
+                return lambda: v
+            except EvalError:
+                pass  # keep the error for run time, at the right moment
+        if len(fs) == 1:
+            f0 = fs[0]
+            return lambda: _check_number(impl(f0()))
+        return lambda: _check_number(impl(*[f() for f in fs]))
+    if op == "neg":
+        f = compile_expr(node.args[0], env)
+        if node.args[0].op == "num":
+            v = -node.args[0].value
+            return lambda: v
+        return lambda: -num(f())
+    if op == "not":
+        f = compile_expr(node.args[0], env)
+        return lambda: not num(f())
+    if op == "bnot":
+        f = compile_expr(node.args[0], env)
+        return lambda: ~_int(f(), "B_NOT")
+    impl2 = BINARY[op]
+    fa = compile_expr(node.args[0], env)
+    fb = compile_expr(node.args[1], env)
+    a, b = node.args
+    if a.op in ("num", "str") and b.op in ("num", "str"):
+        try:
+            v = _check_number(impl2(a.value, b.value))
+            return lambda: v
+        except EvalError:
+            pass
+    # fast paths for the common arithmetic on numbers
+    if op == "+":
+
+        def add():
+            x, y = fa(), fb()
+            if x.__class__ is float and y.__class__ is float:
+                return x + y
+            return num(x) + num(y)
+
+        return add
+    if op == "*":
+
+        def mul():
+            x, y = fa(), fb()
+            if x.__class__ is float and y.__class__ is float:
+                return x * y
+            return num(x) * num(y)
+
+        return mul
+    if op == "/":
+        return lambda: _check_number(_div(fa(), fb()))
+    return lambda: impl2(fa(), fb())

@@ -1,0 +1,145 @@
+"""Coordinate systems: settable zero offsets (G54...), the programmable frame (TRANS, ROT ...),
+diameter programming and modulo rotary axes. Pure Python, no numpy (interpreters stay light).
+
+Machine value of a geometry point p given in the current program coordinates::
+
+    machine = settable + t + R · p          (programmable frame = Trans(t) · Rot(R))
+
+TRANS and ROT *replace* the whole programmable frame (as the control does); ATRANS adds a
+translation in the current, possibly rotated, system (t += R·a); AROT adds a rotation (R = R·Ra).
+ROT with several axes turns about Z, then the new Y, then the new X (RPY, the control's default
+frame angle mode). ``RPL=`` turns in the working plane (about Z for G17, Y for G18, X for G19).
+Axes other than the geometry axes are only translated.
+"""
+
+from __future__ import annotations
+
+import math
+
+Matrix = tuple[tuple[float, float, float], tuple[float, float, float], tuple[float, float, float]]
+IDENTITY: Matrix = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+
+
+def matmul(a: Matrix, b: Matrix) -> Matrix:
+    return tuple(
+        tuple(sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)) for i in range(3)
+    )  # type: ignore[return-value]
+
+
+def apply(m: Matrix, v: tuple[float, float, float]) -> tuple[float, float, float]:
+    return (
+        m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
+        m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
+        m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2],
+    )
+
+
+def transpose(m: Matrix) -> Matrix:
+    return tuple(tuple(m[j][i] for j in range(3)) for i in range(3))  # type: ignore[return-value]
+
+
+def rot_axis(axis: int, deg: float) -> Matrix:
+    """Rotation by ``deg`` degrees about geometry axis 0 (X), 1 (Y) or 2 (Z), right-handed."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    if axis == 0:
+        return ((1.0, 0.0, 0.0), (0.0, c, -s), (0.0, s, c))
+    if axis == 1:
+        return ((c, 0.0, s), (0.0, 1.0, 0.0), (-s, 0.0, c))
+    return ((c, -s, 0.0), (s, c, 0.0), (0.0, 0.0, 1.0))
+
+
+def rpy(rx: float, ry: float, rz: float) -> Matrix:
+    """Z, then new Y, then new X (intrinsic): R = Rz · Ry · Rx."""
+    return matmul(matmul(rot_axis(2, rz), rot_axis(1, ry)), rot_axis(0, rx))
+
+
+class Frames:
+    """Settable offset plus programmable frame, per axis.
+
+    geometry : the three geometry axis names; others : every other axis name.
+    """
+
+    def __init__(self, geometry: tuple[str, str, str]):
+        self.geometry = geometry
+        self.settable: dict[str, float] = {}
+        self.trans: dict[str, float] = {}
+        self.rot: Matrix = IDENTITY
+        self.rotated = False
+
+    # -- state ---------------------------------------------------------------------------
+    def set_settable(self, offsets: dict[str, float]) -> None:
+        self.settable = dict(offsets)
+
+    def offset(self, axis: str) -> float:
+        """Pure translation of a non-geometry axis (or of a geometry axis without rotation)."""
+        return self.settable.get(axis, 0.0) + self.trans.get(axis, 0.0)
+
+    def trans_abs(self, values: dict[str, float]) -> None:
+        self.trans = dict(values)
+        self.rot = IDENTITY
+        self.rotated = False
+
+    def trans_add(self, values: dict[str, float]) -> None:
+        g = self.geometry
+        a = tuple(values.get(n, 0.0) for n in g)
+        ra = apply(self.rot, a)  # type: ignore[arg-type]
+        for i, n in enumerate(g):
+            if ra[i]:
+                self.trans[n] = self.trans.get(n, 0.0) + ra[i]
+        for n, v in values.items():
+            if n not in g:
+                self.trans[n] = self.trans.get(n, 0.0) + v
+
+    def rot_abs(self, m: Matrix) -> None:
+        self.trans = {}
+        self.rot = m
+        self.rotated = m != IDENTITY
+
+    def rot_add(self, m: Matrix) -> None:
+        self.rot = matmul(self.rot, m)
+        self.rotated = self.rot != IDENTITY
+
+    def origin(self, axes: list[str]) -> dict[str, float]:
+        return {a: self.offset(a) for a in axes}
+
+    def rotation_flat(self) -> tuple[float, ...]:
+        return tuple(v for row in self.rot for v in row)
+
+    # -- conversions ---------------------------------------------------------------------
+    def to_program(self, machine: tuple[float, float, float]) -> tuple[float, float, float]:
+        """Geometry machine values -> program coordinates."""
+        g = self.geometry
+        d = tuple(machine[i] - self.offset(g[i]) for i in range(3))
+        if not self.rotated:
+            return d  # type: ignore[return-value]
+        return apply(transpose(self.rot), d)  # type: ignore[arg-type]
+
+    def to_machine(self, p: tuple[float, float, float]) -> tuple[float, float, float]:
+        """Program geometry coordinates -> machine values."""
+        g = self.geometry
+        q = apply(self.rot, p) if self.rotated else p
+        return tuple(q[i] + self.offset(g[i]) for i in range(3))  # type: ignore[return-value]
+
+
+def modulo_target(current: float, target: float, mode: str, modulo: float = 360.0) -> float:
+    """Unwrapped end position of a modulo rotary axis.
+
+    current : unwrapped position now (degrees); target : programmed position (degrees)
+    mode : "ACP" positive direction, "ACN" negative, "DC" shortest way (ties go positive),
+        "AC" within the modulo range (toward the larger or smaller value, never across 0).
+    """
+    cur = current % modulo
+    t = target % modulo
+    if mode == "ACP":
+        d = (t - cur) % modulo
+    elif mode == "ACN":
+        d = -((cur - t) % modulo)
+    elif mode == "DC":
+        d = (t - cur) % modulo
+        if d > modulo / 2:
+            d -= modulo
+    else:
+        d = t - cur
+    if abs(d) < 1e-12 or abs(abs(d) - modulo) < 1e-9:  # already there (up to rounding)
+        d = 0.0
+    return current + d

@@ -1,0 +1,361 @@
+"""Phase 3: run a checked program. Each block is compiled once into a closure that does its work
+and returns the index of the next block; control structures use the partners and jump targets
+that ``structure.analyse`` resolved, so a loop iteration costs a few closure calls.
+
+Program levels (main program, subprogram calls) form a stack; R parameters are global, DEF
+variables belong to their level. A block limit stops endless loops; a depth limit stops endless
+recursion.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik.execute import Machine, Values
+from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
+from interpreters.sinumerik.parser import decode, parse_program
+from interpreters.sinumerik.structure import analyse, find_target
+from vmach import canon
+from vmach.canon import ControlSpec, RunOptions, RunResult
+from vmach.errors import InputError, ProgramError
+from vmach.findings import Finding, warning
+from vmach.source import SourceRef
+
+END_LEVEL = -1
+CALL = -2
+STOP = -3
+
+PROGRAM_SUFFIXES = (".SPF", ".MPF")
+
+
+@dataclass(slots=True)
+class Loaded:
+    program: b.Program
+    findings: list[Finding]
+    ops: list[Callable[[], int]] | None = None
+
+
+@dataclass(slots=True)
+class Level:
+    loaded: Loaded
+    vars: dict
+    pc: int = 0
+    for_end: dict = field(default_factory=dict)
+    saved: dict | None = None
+    back: list = field(default_factory=list)  # (param name, Target) copied back at return
+    repeat: int = 1
+    call_src: SourceRef | None = None
+
+
+def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(
+            f"{display}: cannot read: {exc.strerror or exc}", kind="unreadable"
+        ) from None
+    program = parse_program(decode(data), display, control)
+    findings = list(program.findings) + analyse(program)
+    return Loaded(program, findings)
+
+
+def find_subprogram(directory: Path, name: str) -> Path | None:
+    """``NAME.SPF`` or ``NAME.MPF`` in ``directory`` (case-insensitive), never elsewhere."""
+    if not name or any(ch in name for ch in "/\\:") or name in (".", ".."):
+        return None
+    wanted = {name.upper() + s for s in PROGRAM_SUFFIXES}
+    try:
+        entries = sorted(os.listdir(directory))
+    except OSError:
+        return None
+    for suffix in PROGRAM_SUFFIXES:  # SPF before MPF
+        for entry in entries:
+            if entry.upper() == name.upper() + suffix and entry.upper() in wanted:
+                p = directory / entry
+                if p.is_file() and p.resolve().parent == directory.resolve():
+                    return p
+    return None
+
+
+class Interpreter:
+    def __init__(self, path: str | Path, control: ControlSpec, options: RunOptions):
+        self.path = Path(path)
+        self.directory = self.path.resolve().parent
+        self.control = control
+        self.options = options
+        self.env = Env()
+        self.out: list[canon.Command] = []
+        self.findings: list[Finding] = []
+        self.machine = Machine(control, self.out)
+        self.loaded: dict[str, Loaded] = {}
+        self.stack: list[Level] = []
+        self.pending: tuple | None = None
+        self.blocks = 0
+
+    # -- loading ---------------------------------------------------------------------------
+    def load(self, path: Path, display: str) -> Loaded:
+        key = str(path.resolve())
+        if key not in self.loaded:
+            self.loaded[key] = read_program(path, display, self.control)
+        return self.loaded[key]
+
+    def ops(self, loaded: Loaded) -> list[Callable[[], int]]:
+        if loaded.ops is None:
+            loaded.ops = [self.compile_block(loaded.program, blk) for blk in loaded.program.blocks]
+        return loaded.ops
+
+    # -- running ---------------------------------------------------------------------------
+    def run(self) -> RunResult:
+        display = str(self.path)
+        try:
+            main = self.load(self.path, display)
+            self.push(main, SourceRef(display, 1), [])
+            self.loop()
+            completed = True
+        except ProgramError as exc:
+            self.findings.append(exc.finding)
+            completed = False
+        return RunResult(self.out, self.findings, completed, self.blocks)
+
+    def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
+        if len(self.stack) >= self.options.max_call_depth:
+            raise ProgramError(
+                "call_depth", f"more than {self.options.max_call_depth} nested program levels", src
+            )
+        program = loaded.program
+        variables: dict = {}
+        level = Level(loaded, variables, repeat=repeat, call_src=src)
+        proc = program.proc
+        if proc is not None:
+            if len(args) > len(proc.params):
+                raise ProgramError(
+                    "call_arguments",
+                    f"{proc.name} takes {len(proc.params)} argument(s), got {len(args)}",
+                    src,
+                )
+            for i, p in enumerate(proc.params):
+                value, target = args[i] if i < len(args) else (None, None)
+                variables[p.name] = _convert(
+                    p.type, value if value is not None else _default(p.type), p.name
+                )
+                if p.by_ref and target is not None:
+                    level.back.append((p.name, target))
+            if "SAVE" in proc.attributes:
+                level.saved = self.machine.modal_state()
+        elif args:
+            raise ProgramError(
+                "call_arguments", f"{program.name} has no PROC header and takes no arguments", src
+            )
+        for name, d in program.variables.items():
+            if isinstance(d, b.VarDef) and name not in variables:
+                variables[name] = _initial(d)
+        self.stack.append(level)
+        self.env.vars = variables
+
+    def pop(self, src: SourceRef) -> bool:
+        """Leave the current level; True while levels remain."""
+        level = self.stack[-1]
+        if level.repeat > 1:
+            level.repeat -= 1
+            level.pc = 0
+            return True
+        self.stack.pop()
+        if level.saved is not None:
+            self.machine.restore(level.saved, src)
+        if self.stack:
+            caller = self.stack[-1]
+            self.env.vars = caller.vars
+            for pname, target in level.back:
+                self.assign(target, level.vars[pname])
+        return bool(self.stack)
+
+    def loop(self) -> None:
+        limit = self.options.max_blocks
+        while self.stack:
+            level = self.stack[-1]
+            ops = self.ops(level.loaded)
+            n = len(ops)
+            pc = level.pc
+            count = self.blocks
+            try:
+                while 0 <= pc < n:
+                    count += 1
+                    if count > limit:
+                        blk = level.loaded.program.blocks[pc]
+                        self.blocks = count - 1
+                        raise ProgramError(
+                            "block_limit",
+                            f"stopped after {limit} blocks (--max-blocks); the program probably loops forever",
+                            self.src(level, blk),
+                            limit=limit,
+                        )
+                    pc = ops[pc]()
+            except EvalError as exc:
+                self.blocks = count
+                blk = level.loaded.program.blocks[pc]
+                raise ProgramError(exc.kind, exc.message, self.src(level, blk)) from None
+            self.blocks = count
+            program = level.loaded.program
+            if pc == CALL:
+                name, args, src, repeat, ret = self.pending  # type: ignore[misc]
+                level.pc = ret
+                self.call(name, args, src, repeat)
+                continue
+            if pc == STOP:
+                self.stack.clear()
+                return
+            last = program.blocks[-1] if program.blocks else None
+            src = self.src(level, last) if last else SourceRef(program.path, 1)
+            if pc >= n and len(self.stack) == 1:
+                self.findings.append(
+                    warning("missing_program_end", "the program ends without M30/M2", src)
+                )
+                self.out.append(canon.ProgramEnd(src, code="EOF"))
+            if not self.pop(src):
+                return
+
+    def src(self, level: Level, blk: b.Block, col: int = 1) -> SourceRef:
+        return SourceRef(level.loaded.program.path, blk.line, col, blk.text)
+
+    def call(self, name: str, args: list, src: SourceRef, repeat: int) -> None:
+        caller_dir = (
+            Path(self.stack[-1].loaded.program.path).resolve().parent
+            if self.stack
+            else self.directory
+        )
+        path = find_subprogram(caller_dir, name)
+        if path is None:
+            raise ProgramError(
+                "subprogram_not_found", f"{name}: no {name}.SPF or {name}.MPF in {caller_dir}", src
+            )
+        display = os.path.join(os.path.dirname(self.stack[-1].loaded.program.path), path.name)
+        loaded = self.load(path, display)
+        self.push(loaded, src, args, repeat)
+
+    # -- assignments -------------------------------------------------------------------------
+    def assign(self, target: b.Target, value) -> None:
+        if target.name is None:
+            i = (
+                target.r
+                if target.r is not None
+                else r_index(compile_expr(target.r_expr, self.env)())
+            )
+            self.env.r[i] = _real(value, f"R{i}")
+            return
+        self.setter(target)(value)
+
+    def setter(self, target: b.Target) -> Callable:
+        env = self.env
+        if target.name is None:
+            r = env.r
+            if target.r is not None:
+                i = target.r
+
+                def set_r(v):
+                    r[i] = v if v.__class__ is float else _real(v, f"R{i}")
+
+                return set_r
+            fi = compile_expr(target.r_expr, env)
+
+            def set_ri(v):
+                i = r_index(fi())
+                r[i] = _real(v, f"R{i}")
+
+            return set_ri
+        name = target.name
+        if not target.index:
+
+            def set_var(v):
+                d = env.vars
+                old = d[name]
+                if isinstance(old, list):
+                    raise EvalError("type_error", f"{name} is an array; give an index")
+                d[name] = _like(old, v, name)
+
+            return set_var
+        fs = [compile_expr(x, env) for x in target.index]
+
+        def set_elem(v):
+            lst, i = element(env.vars[name], [f() for f in fs], name)
+            lst[i] = _like(lst[i], v, name)
+
+        return set_elem
+
+    # -- compiling blocks ------------------------------------------------------------------
+    def compile_block(self, program: b.Program, blk: b.Block) -> Callable[[], int]:
+        from interpreters.sinumerik.compile import compile_block
+
+        return compile_block(self, program, blk)
+
+    def jump_target(self, program: b.Program, blk: b.Block, jump: b.Jump) -> Callable[[], int]:
+        """A closure giving the landing index, or raising the control's alarm when missing."""
+        tgt = find_target(program, blk.index, jump)
+        if tgt is not None:
+            return lambda: tgt
+        if jump.how == "GOTOC":
+            nxt = blk.index + 1
+            return lambda: nxt
+        source = SourceRef(program.path, blk.line, jump.col, blk.text)
+
+        def missing():
+            raise ProgramError(
+                "undefined_label"
+                if not (program.labels.get(jump.target) or program.numbers.get(jump.number or -1))
+                else "jump_direction",
+                f"{jump.how} {jump.target}: jump destination not found",
+                source,
+            )
+
+        return missing
+
+
+def _default(typ: str):
+    return {"INT": 0, "REAL": 0.0, "BOOL": False, "STRING": "", "CHAR": 0, "AXIS": ""}[typ]
+
+
+def _initial(d: b.VarDef):
+    if not d.dims:
+        return _default(d.type)
+
+    def make(dims):
+        if len(dims) == 1:
+            return [_default(d.type) for _ in range(dims[0])]
+        return [make(dims[1:]) for _ in range(dims[0])]
+
+    return make(list(d.dims))
+
+
+def _real(v, name: str) -> float:
+    if isinstance(v, str):
+        raise EvalError("type_error", f"{name} takes a number, not the string {v!r}")
+    return float(v)
+
+
+def _convert(typ: str, v, name: str):
+    if typ in ("STRING", "AXIS"):
+        if not isinstance(v, str):
+            raise EvalError("type_error", f"{name} is {typ}; it takes a string, not {v!r}")
+        return v
+    v = num(v) if not isinstance(v, str) else _real(v, name)
+    if typ == "INT":
+        return int(v + 0.5) if v >= 0 else -int(-v + 0.5)  # REAL -> INT rounds
+    if typ == "BOOL":
+        return bool(v)
+    return float(v)
+
+
+def _like(old, v, name: str):
+    if isinstance(old, bool):
+        return _convert("BOOL", v, name)
+    if isinstance(old, int):
+        return _convert("INT", v, name)
+    if isinstance(old, str):
+        return _convert("STRING", v, name)
+    return _convert("REAL", v, name)
+
+
+__all__ = ["Interpreter", "Values", "END_LEVEL", "CALL", "STOP", "find_subprogram", "read_program"]

@@ -1,0 +1,107 @@
+"""Tokens of one Sinumerik block (one line).
+
+Identifiers are upper-cased (the NC language is case-insensitive); string literals keep their
+case. An identifier made of an address letter and digits (``X10``, ``G0``, ``R85``, ``C1``) is a
+single token; the parser splits it. A decimal part written right after it (``X10.5``) is glued
+on, so ``X10.5`` is one token ``X10.5``.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from vmach.errors import ProgramError
+from vmach.source import SourceRef
+
+NUM, STR, IDENT, OP, END = "num", "str", "ident", "op", "end"
+
+
+@dataclass(frozen=True, slots=True)
+class Token:
+    kind: str
+    text: str  # upper-cased for identifiers; the literal text for strings (without quotes)
+    col: int  # 1-based column in the line
+    value: float | int | str | None = None
+
+
+_TOKEN = re.compile(
+    r"""
+    (?P<ws>[ \t\f\v\r]+)
+  | (?P<num>(?:\d+\.\d*|\.\d+|\d+)(?:EX[+-]?\d+)?)
+  | (?P<hex>'H[0-9A-F]+')
+  | (?P<bin>'B[01]+')
+  | (?P<str>"[^"]*")
+  | (?P<ident>[A-Z_$][A-Z0-9_$]*(?:\.\d*)?)
+  | (?P<op>==|<>|<=|>=|<<|[<>=+\-*/()\[\],:])
+    """,
+    re.VERBOSE | re.IGNORECASE,
+)
+
+_ADDR_DECIMAL = re.compile(r"^[A-Z]+(?:\d+\.\d*|\.\d+)$")
+
+
+def _number(text: str) -> float | int:
+    t = text.upper()
+    if "EX" in t:
+        mant, exp = t.split("EX")
+        return float(mant) * 10.0 ** int(exp)
+    if "." in t:
+        return float(t)
+    return int(t)
+
+
+def tokenize(text: str, source: SourceRef) -> list[Token]:
+    """Tokens of ``text`` (a block without its ``;`` comment), ending with an END token.
+
+    Raises ProgramError(kind="syntax") at the first character that starts no token.
+    """
+    out: list[Token] = []
+    pos = 0
+    n = len(text)
+    match = _TOKEN.match
+    while pos < n:
+        m = match(text, pos)
+        if m is None:
+            raise ProgramError("syntax", f"unexpected character {text[pos]!r}", source.at(pos + 1))
+        kind = m.lastgroup
+        tok = m.group()
+        col = pos + 1
+        pos = m.end()
+        if kind == "ws":
+            continue
+        if kind == "num":
+            out.append(Token(NUM, tok, col, _number(tok)))
+        elif kind == "hex":
+            out.append(Token(NUM, tok, col, int(tok[2:-1], 16)))
+        elif kind == "bin":
+            out.append(Token(NUM, tok, col, int(tok[2:-1], 2)))
+        elif kind == "str":
+            out.append(Token(STR, tok[1:-1], col, tok[1:-1]))
+        elif kind == "ident":
+            up = tok.upper()
+            if "." in up and not _ADDR_DECIMAL.match(up):
+                # "NAME." is not an address with a decimal part: give the dot back
+                cut = up.index(".")
+                pos = pos - (len(up) - cut)
+                up = up[:cut]
+                if pos < n and text[pos] == ".":
+                    raise ProgramError("syntax", "unexpected '.'", source.at(pos + 1))
+            out.append(Token(IDENT, up, col))
+        else:
+            out.append(Token(OP, tok, col))
+    out.append(Token(END, "", n + 1))
+    return out
+
+
+def split_comment(line: str) -> tuple[str, str]:
+    """Split a line at the first ``;`` that is not inside a string: (code, comment)."""
+    if ";" not in line:
+        return line, ""
+    in_str = False
+    for i, ch in enumerate(line):
+        if ch == '"':
+            in_str = not in_str
+        elif ch == ";" and not in_str:
+            return line[:i], line[i + 1 :]
+    return line, ""

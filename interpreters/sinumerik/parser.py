@@ -1,0 +1,686 @@
+"""Read a Sinumerik program text into :class:`Program` blocks (phase 1: read).
+
+Errors do not stop the reading: every line that does not parse becomes a ``bad`` block and a
+finding, so ``vmach check`` reports all of them at once.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+
+from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik.expr import ExprParser, Node, ParseError
+from interpreters.sinumerik.language import (
+    ACCEPTED_WORDS,
+    CODES,
+    Code,
+    PROC_ATTRIBUTES,
+    STATEMENTS,
+    TYPES,
+    UNSUPPORTED_WORDS,
+)
+from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token, split_comment, tokenize
+from vmach.canon import ControlSpec
+from vmach.errors import ProgramError
+from vmach.findings import Finding, error
+from vmach.source import SourceRef
+
+_GCODE = re.compile(r"^G(\d+)$")
+_ADDR_NUM = re.compile(r"^([A-Z])(\d+(?:\.\d*)?|\.\d+)$")
+_LOOSE_AXIS = re.compile(r"^[ABCUVWXYZ]\d*$")
+_LABEL = re.compile(r"^[A-Z_][A-Z_][A-Z0-9_]{0,30}$")
+_BLOCKNO = re.compile(r"^N(\d+)$")
+_SPINDLE_ADDR = re.compile(r"^([SM])(\d+)$")
+_JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
+_MODES = ("AC", "IC", "ACP", "ACN", "DC")
+_INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "turn"}
+_INTERP_UNSUPPORTED = {"I1", "J1", "K1", "AR", "AP", "RP", "RND", "RNDM", "CHF", "CHR", "ANG"}
+_BUILTINS = {"SETMS", "MSG", "WORKPIECE"}
+_SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "aux", "P": "repeat"}
+
+
+class Grammar:
+    """What a word may be on this machine: axes, cycles, machine G codes."""
+
+    def __init__(self, control: ControlSpec):
+        self.control = control
+        self.axes = {a.name for a in control.axes} | set(control.geometry)
+        self.strict = control.strict_axes
+        self.cycles = control.cycles
+        self.gcodes = control.gcodes
+
+    def is_axis(self, name: str) -> bool:
+        if name in self.axes:
+            return True
+        return not self.strict and bool(_LOOSE_AXIS.match(name))
+
+
+def _num_node(value, col: int) -> Node:
+    return Node("num", col, value)
+
+
+class BlockParser:
+    """Parses the tokens of one line into a Block."""
+
+    def __init__(self, grammar: Grammar, variables: dict, source: SourceRef):
+        self.g = grammar
+        self.variables = variables
+        self.src = source
+        self.toks: list[Token] = []
+        self.pos = 0
+
+    # -- token helpers -------------------------------------------------------------------
+    @property
+    def tok(self) -> Token:
+        return self.toks[self.pos]
+
+    def peek(self, k: int = 1) -> Token:
+        return self.toks[min(self.pos + k, len(self.toks) - 1)]
+
+    def is_op(self, text: str, k: int = 0) -> bool:
+        t = self.peek(k) if k else self.tok
+        return t.kind == OP and t.text == text
+
+    def fail(self, kind: str, message: str, col: int | None = None):
+        raise ProgramError(kind, message, self.src.at(col or self.tok.col))
+
+    def expect_op(self, text: str) -> Token:
+        if not self.is_op(text):
+            self.fail("syntax", f"expected {text!r}, found {self.describe(self.tok)}")
+        t = self.tok
+        self.pos += 1
+        return t
+
+    def expect_end(self, what: str) -> None:
+        if self.tok.kind != END:
+            self.fail("syntax", f"unexpected {self.describe(self.tok)} after {what}")
+
+    @staticmethod
+    def describe(t: Token) -> str:
+        return "end of block" if t.kind == END else repr(t.text)
+
+    def expr(self) -> Node:
+        p = ExprParser(self.toks, self.pos, self.variables.__contains__)
+        try:
+            node = p.parse()
+        except ParseError as exc:
+            raise ProgramError(exc.kind, exc.message, self.src.at(exc.col)) from None
+        self.pos = p.pos
+        return node
+
+    # -- block -----------------------------------------------------------------------------
+    def parse(self, block: b.Block, code: str) -> None:
+        self.toks = tokenize(code, self.src)
+        self.pos = 0
+        if self.is_op("/"):
+            block.skip = True
+            self.pos += 1
+            if self.tok.kind == NUM and isinstance(self.tok.value, int) and self.tok.col == 2:
+                self.pos += 1
+        t = self.tok
+        if t.kind == IDENT and (m := _BLOCKNO.match(t.text)):
+            block.number, block.number_col = int(m.group(1)), t.col
+            self.pos += 1
+        elif self.is_op(":") and self.peek().kind == NUM:
+            block.number, block.number_col = int(self.peek().value), t.col
+            self.pos += 2
+        t = self.tok
+        if t.kind == IDENT and self.is_op(":", 1) and t.text not in STATEMENTS:
+            if not _LABEL.match(t.text):
+                self.fail(
+                    "syntax", f"{t.text!r} is not a valid label (two letters or '_' first)", t.col
+                )
+            block.label, block.label_col = t.text, t.col
+            self.pos += 2
+        if self.tok.kind == END:
+            block.kind = "label" if block.label else "empty"
+            return
+        t = self.tok
+        if t.kind == IDENT and t.text in STATEMENTS:
+            self.statement(block, t)
+            return
+        self.nc_items(block)
+
+    def statement(self, block: b.Block, t: Token) -> None:
+        name = t.text
+        self.pos += 1
+        if name == "IF":
+            block.cond = self.expr()
+            if self.tok.kind == IDENT and self.tok.text in _JUMPS:
+                block.kind = "nc"
+                block.jump = self.jump()
+                self.expect_end("the jump")
+            else:
+                block.kind = "if"
+                self.expect_end("the IF condition")
+        elif name in ("ELSE", "ENDIF", "ENDWHILE", "ENDFOR", "REPEAT", "LOOP", "ENDLOOP"):
+            block.kind = name.lower()
+            self.expect_end(name)
+        elif name in ("WHILE", "UNTIL"):
+            block.kind = name.lower()
+            block.cond = self.expr()
+            self.expect_end(f"the {name} condition")
+        elif name == "FOR":
+            block.kind = "for"
+            tt = self.tok
+            if tt.kind != IDENT:
+                self.fail("syntax", "FOR needs a variable")
+            self.pos += 1
+            block.for_target = self.target(tt)
+            self.expect_op("=")
+            block.for_start = self.expr()
+            if not (self.tok.kind == IDENT and self.tok.text == "TO"):
+                self.fail("syntax", f"expected TO, found {self.describe(self.tok)}")
+            self.pos += 1
+            block.for_end = self.expr()
+            self.expect_end("FOR")
+        elif name == "CASE":
+            block.kind = "case"
+            block.cond = self.expr()
+            if not (self.tok.kind == IDENT and self.tok.text == "OF"):
+                self.fail("syntax", f"expected OF, found {self.describe(self.tok)}")
+            self.pos += 1
+            while self.tok.kind != END:
+                if self.tok.kind == IDENT and self.tok.text == "DEFAULT":
+                    self.pos += 1
+                    block.default = self.jump()
+                    continue
+                value = self.expr()
+                block.cases.append((value, self.jump()))
+        elif name in _JUMPS:
+            self.pos -= 1
+            block.kind = "nc"
+            block.jump = self.jump()
+            self.expect_end("the jump")
+        elif name == "DEF":
+            block.kind = "def"
+            self.definition(block)
+        elif name == "PROC":
+            block.kind = "proc"
+            block.proc = self.proc_header(t)
+        elif name == "RET":
+            block.kind = "nc"
+            block.items.append(b.Keyword(t.col, "RET"))
+            self.expect_end("RET")
+        elif name == "CALL":
+            block.kind = "nc"
+            if self.tok.kind != STR:
+                self.fail("syntax", 'CALL needs a program name in quotes: CALL "NAME"')
+            block.items.append(b.Call(t.col, self.tok.value.upper()))
+            self.pos += 1
+            self.expect_end("CALL")
+        elif name == "EXTERN":
+            block.kind = "empty"  # declaration of a subprogram's signature: nothing to run
+            self.pos = len(self.toks) - 1
+        else:
+            self.fail("syntax", f"{name} cannot start a block here", t.col)
+
+    def jump(self) -> b.Jump:
+        t = self.tok
+        if t.kind != IDENT or t.text not in _JUMPS:
+            self.fail("syntax", f"expected GOTOF/GOTOB/GOTO/GOTOC, found {self.describe(t)}")
+        self.pos += 1
+        tgt = self.tok
+        if tgt.kind == IDENT:
+            self.pos += 1
+            m = _BLOCKNO.match(tgt.text)
+            if m:
+                return b.Jump(t.text, tgt.text, int(m.group(1)), tgt.col)
+            return b.Jump(t.text, tgt.text, None, tgt.col)
+        if tgt.kind == STR:
+            self.pos += 1
+            return b.Jump(t.text, tgt.value.upper(), None, tgt.col)
+        self.fail("syntax", f"{t.text} needs a label or block number")
+        raise AssertionError  # unreachable
+
+    def target(self, t: Token) -> b.Target:
+        name = t.text
+        if name == "R" and self.is_op("["):
+            self.pos += 1
+            idx = self.expr()
+            self.expect_op("]")
+            return b.Target(r_expr=idx)
+        if len(name) > 1 and name[0] == "R" and name[1:].isdigit():
+            i = int(name[1:])
+            if i >= 1000:
+                self.fail("index_range", f"{name} is outside R0..R999", t.col)
+            return b.Target(r=i)
+        if name in self.variables:
+            idx: list[Node] = []
+            if self.is_op("["):
+                self.pos += 1
+                idx.append(self.expr())
+                while self.is_op(","):
+                    self.pos += 1
+                    idx.append(self.expr())
+                self.expect_op("]")
+            return b.Target(name=name, index=tuple(idx))
+        self.fail("undefined_variable", f"{name} is not defined (DEF) before use", t.col)
+        raise AssertionError
+
+    def definition(self, block: b.Block) -> None:
+        t = self.tok
+        if t.kind != IDENT or t.text not in TYPES:
+            if t.kind == IDENT and t.text == "FRAME":
+                self.fail("unsupported", "FRAME variables are not simulated")
+            self.fail("syntax", f"DEF needs a type ({', '.join(sorted(TYPES))})")
+        typ = t.text
+        self.pos += 1
+        if typ == "STRING" and self.is_op("["):
+            self.pos += 1
+            self.expr()
+            self.expect_op("]")
+        while True:
+            nt = self.tok
+            if nt.kind != IDENT:
+                self.fail("syntax", "DEF needs a variable name")
+            if nt.text in STATEMENTS or (nt.text[0] == "R" and nt.text[1:].isdigit()):
+                self.fail("syntax", f"{nt.text} cannot be a variable name", nt.col)
+            self.pos += 1
+            dims: list[int] = []
+            if self.is_op("["):
+                self.pos += 1
+                while True:
+                    d = self.tok
+                    if d.kind != NUM or not isinstance(d.value, int) or d.value < 1:
+                        self.fail("syntax", "array sizes must be positive whole numbers")
+                    dims.append(d.value)
+                    self.pos += 1
+                    if not self.is_op(","):
+                        break
+                    self.pos += 1
+                self.expect_op("]")
+            init = None
+            init_list: tuple[Node, ...] = ()
+            if self.is_op("="):
+                self.pos += 1
+                if dims:
+                    if self.tok.kind == IDENT and self.tok.text == "SET":
+                        self.pos += 1
+                    self.expect_op("(")
+                    items = [self.expr()]
+                    while self.is_op(","):
+                        self.pos += 1
+                        items.append(self.expr())
+                    self.expect_op(")")
+                    init_list = tuple(items)
+                elif typ == "AXIS" and self.tok.kind == IDENT and self.g.is_axis(self.tok.text):
+                    init = Node("str", self.tok.col, self.tok.text)
+                    self.pos += 1
+                else:
+                    init = self.expr()
+            vd = b.VarDef(nt.col, typ, nt.text, tuple(dims), init, init_list)
+            if nt.text in self.variables:
+                self.fail("duplicate_definition", f"{nt.text} is defined twice", nt.col)
+            self.variables[nt.text] = vd
+            block.defs.append(vd)
+            if not self.is_op(","):
+                break
+            self.pos += 1
+        self.expect_end("the definition")
+
+    def proc_header(self, t: Token) -> b.ProcHeader:
+        nt = self.tok
+        if nt.kind != IDENT:
+            self.fail("syntax", "PROC needs a program name")
+        self.pos += 1
+        params: list[b.Param] = []
+        if self.is_op("("):
+            self.pos += 1
+            while not self.is_op(")"):
+                by_ref = False
+                if self.tok.kind == IDENT and self.tok.text == "VAR":
+                    by_ref = True
+                    self.pos += 1
+                tt = self.tok
+                if tt.kind != IDENT or tt.text not in TYPES:
+                    self.fail("syntax", "a PROC parameter needs a type")
+                self.pos += 1
+                if tt.text == "STRING" and self.is_op("["):  # STRING[length] NAME
+                    self.pos += 1
+                    self.expr()
+                    self.expect_op("]")
+                pn = self.tok
+                if pn.kind != IDENT:
+                    self.fail("syntax", "a PROC parameter needs a name")
+                self.pos += 1
+                if self.is_op("["):  # array parameter
+                    while not self.is_op("]"):
+                        if self.tok.kind == END:
+                            self.fail("syntax", "unclosed '['")
+                        self.pos += 1
+                    self.pos += 1
+                p = b.Param(tt.text, pn.text, by_ref)
+                params.append(p)
+                self.variables[pn.text] = p
+                if self.is_op(","):
+                    self.pos += 1
+                elif not self.is_op(")"):
+                    self.fail("syntax", f"expected ',' or ')', found {self.describe(self.tok)}")
+            self.pos += 1
+        attrs: list[str] = []
+        while self.tok.kind == IDENT:
+            if self.tok.text not in PROC_ATTRIBUTES:
+                self.fail("syntax", f"{self.tok.text} is not a PROC attribute")
+            attrs.append(self.tok.text)
+            self.pos += 1
+        self.expect_end("the PROC header")
+        return b.ProcHeader(t.col, nt.text, tuple(params), tuple(attrs))
+
+    # -- NC words ----------------------------------------------------------------------------
+    def nc_items(self, block: b.Block) -> None:
+        block.kind = "nc"
+        items = block.items
+        while self.tok.kind != END:
+            t = self.tok
+            if t.kind != IDENT:
+                self.fail("syntax", f"unexpected {self.describe(t)}")
+            name = t.text
+            if name in _JUMPS:
+                block.jump = self.jump()
+                self.expect_end("the jump")
+                break
+            self.pos += 1
+            if self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R")):
+                items.append(self.assignment(t))
+            elif self.is_op("("):
+                items.append(self.call_with_args(t))
+            else:
+                item = self.plain(t, block)
+                if item is not None:
+                    items.append(item)
+        groups: dict[int, b.GCode] = {}
+        for it in items:
+            if isinstance(it, b.GCode) and it.code.group >= 0:
+                prev = groups.get(it.code.group)
+                if prev is not None and prev.code.name != it.code.name:
+                    self.fail(
+                        "modal_conflict",
+                        f"{it.code.name} and {prev.code.name} belong to the same "
+                        f"G group ({it.code.group_name}); one per block",
+                        it.col,
+                    )
+                groups[it.code.group] = it
+
+    def assignment(self, t: Token) -> b.Item:
+        name = t.text
+        if name == "R" or (name[0] == "R" and name[1:].isdigit()) or name in self.variables:
+            target = self.target(t)
+            self.expect_op("=")
+            return b.Assign(t.col, target, self.expr())
+        self.pos += 1  # '='
+        return self.address(t, name)
+
+    def address(self, t: Token, name: str) -> b.Word:
+        """``NAME=value`` for an address (axis, F, S2, M2, T, D, I, CR ...)."""
+        if self.g.is_axis(name):
+            mode, node = self.moded_value()
+            return b.Word(t.col, name, "axis", node, None, mode)
+        if name in _INTERP:
+            mode, node = self.moded_value()
+            return b.Word(t.col, name, _INTERP[name], node, None, mode)
+        if name in _INTERP_UNSUPPORTED:
+            self.fail("unsupported", f"{name}= is not simulated", t.col)
+        if name in _SINGLE:
+            return b.Word(t.col, name, _SINGLE[name], self.expr())
+        m = _SPINDLE_ADDR.match(name)
+        if m:
+            kind = "speed" if m.group(1) == "S" else "m"
+            return b.Word(t.col, name, kind, self.expr(), int(m.group(2)))
+        if name == "SPOS" or (name.startswith("SPOS") and name[4:].isdigit()):
+            return b.Word(t.col, name, "spos", self.expr())
+        if name in CODES or name in STATEMENTS:
+            self.fail("syntax", f"{name} takes no value", t.col)
+        self.fail("unknown_word", self.unknown_word_message(name), t.col)
+        raise AssertionError
+
+    def moded_value(self) -> tuple[str | None, Node]:
+        t = self.tok
+        if t.kind == IDENT and t.text in _MODES and self.is_op("(", 1):
+            self.pos += 2
+            node = self.expr()
+            self.expect_op(")")
+            if self.tok.kind == OP and self.tok.text not in (",",):
+                self.fail("syntax", f"{t.text}(...) must be the whole value")
+            return t.text, node
+        return None, self.expr()
+
+    def call_with_args(self, t: Token) -> b.Item:
+        name = t.text
+        if name in UNSUPPORTED_WORDS:
+            self.fail("unsupported", f"{name} is not simulated", t.col)
+        if name in CODES or name in ACCEPTED_WORDS or name in self.variables:
+            self.fail("syntax", f"{name} takes no arguments", t.col)
+        self.expect_op("(")
+        args: list[Node | None] = []
+        if not self.is_op(")"):
+            while True:
+                if self.is_op(",") or self.is_op(")"):
+                    args.append(None)
+                else:
+                    args.append(self.expr())
+                if self.is_op(","):
+                    self.pos += 1
+                    continue
+                break
+        self.expect_op(")")
+        if name in _BUILTINS:
+            if name == "SETMS" and len(args) > 1:
+                self.fail("syntax", "SETMS takes at most one spindle number", t.col)
+            return b.Builtin(t.col, name, tuple(args))
+        return b.Call(t.col, name, tuple(args), cycle=name in self.g.cycles)
+
+    def plain(self, t: Token, block: b.Block) -> b.Item | None:
+        """A word without '=': G code, keyword, address+number, or a call by name."""
+        name = t.text
+        m = _GCODE.match(name)
+        if m:
+            code_name = f"G{int(m.group(1))}"
+            code = CODES.get(code_name)
+            if code is not None:
+                if code.status == "unsupported":
+                    self.fail("unsupported", f"{code_name} is not simulated by vmach", t.col)
+                return b.GCode(t.col, code)
+            if name in self.g.gcodes or code_name in self.g.gcodes:
+                return b.GCode(t.col, _machine_code(code_name), machine=True)
+            self.fail(
+                "unknown_gcode",
+                f"{name} is not a Sinumerik G code nor declared by the machine",
+                t.col,
+            )
+        code = CODES.get(name)
+        if code is not None:
+            if code.status == "unsupported":
+                self.fail("unsupported", f"{name} is not simulated by vmach", t.col)
+            if code.group == 3:
+                return self.frame(t)
+            return b.GCode(t.col, code)
+        if name in ACCEPTED_WORDS:
+            return b.Keyword(t.col, name)
+        if name in UNSUPPORTED_WORDS:
+            self.fail("unsupported", f"{name} is not simulated", t.col)
+        if _BLOCKNO.match(name):
+            self.fail("syntax", "a block number must come first in the block", t.col)
+        m = _ADDR_NUM.match(name)
+        if m or (
+            len(name) == 1
+            and (
+                self.tok.kind == NUM
+                or (self.tok.kind == OP and self.tok.text in "+-" and self.peek().kind == NUM)
+            )
+        ):
+            letter, value = (
+                (m.group(1), _parse_number(m.group(2))) if m else (name, self.signed_number())
+            )
+            return self.letter_word(t, letter, value)
+        if self.g.is_axis(name):
+            self.fail("syntax", f"axis {name} needs a value: {name}=...", t.col)
+        if name in self.variables or (name[0] == "R" and name[1:].isdigit()):
+            self.fail("syntax", f"{name} is not a statement; assign it with {name}=...", t.col)
+        if name in _SINGLE or name in _INTERP:
+            self.fail("syntax", f"{name} needs a value", t.col)
+        if not name.startswith("$") and re.match(r"^[A-Z_][A-Z0-9_]*$", name):
+            return b.Call(t.col, name, (), cycle=name in self.g.cycles)
+        self.fail("unknown_word", self.unknown_word_message(name), t.col)
+        return None
+
+    def signed_number(self) -> float | int:
+        sign = 1
+        if self.tok.kind == OP:
+            sign = -1 if self.tok.text == "-" else 1
+            self.pos += 1
+        v = self.tok.value
+        self.pos += 1
+        return sign * v  # type: ignore[operator]
+
+    def letter_word(self, t: Token, letter: str, value: float | int) -> b.Item:
+        node = _num_node(value, t.col)
+        if self.g.is_axis(letter):
+            return b.Word(t.col, letter, "axis", node)
+        if letter in _SINGLE:
+            if letter == "P":
+                return b.Word(t.col, letter, "repeat", node)
+            return b.Word(t.col, letter, _SINGLE[letter], node)
+        if letter in ("I", "J", "K"):
+            return b.Word(t.col, letter, "interp", node)
+        if letter == "L":
+            return b.Call(t.col, f"L{int(value)}" if float(value).is_integer() else f"L{value}")
+        self.fail("unknown_word", self.unknown_word_message(letter, t.text), t.col)
+        raise AssertionError
+
+    def frame(self, t: Token) -> b.FrameCmd:
+        words: list[b.Word] = []
+        rpl = None
+        while self.tok.kind != END:
+            wt = self.tok
+            if wt.kind != IDENT:
+                self.fail("syntax", f"unexpected {self.describe(wt)} in {t.text}")
+            self.pos += 1
+            if wt.text == "RPL" and t.text in ("ROT", "AROT") and self.is_op("="):
+                self.pos += 1
+                rpl = self.expr()
+                continue
+            if self.is_op("="):
+                self.pos += 1
+                if not self.g.is_axis(wt.text):
+                    self.fail("unknown_axis", f"{wt.text} is not an axis of this machine", wt.col)
+                words.append(b.Word(wt.col, wt.text, "axis", self.expr()))
+                continue
+            m = _ADDR_NUM.match(wt.text)
+            if m and self.g.is_axis(m.group(1)):
+                words.append(
+                    b.Word(wt.col, m.group(1), "axis", _num_node(_parse_number(m.group(2)), wt.col))
+                )
+                continue
+            if len(wt.text) == 1 and self.g.is_axis(wt.text) and self.tok.kind in (NUM, OP):
+                words.append(
+                    b.Word(wt.col, wt.text, "axis", _num_node(self.signed_number(), wt.col))
+                )
+                continue
+            self.fail(
+                "syntax",
+                f"{t.text} takes axis values only (a frame instruction needs its own block)",
+                wt.col,
+            )
+        if t.text in ("TRANS", "ATRANS") and rpl is not None:
+            self.fail("syntax", f"RPL belongs to ROT/AROT, not {t.text}", t.col)
+        return b.FrameCmd(t.col, t.text, tuple(words), rpl)
+
+    def unknown_word_message(self, name: str, full: str | None = None) -> str:
+        pool = list(CODES) + list(self.g.cycles) + sorted(self.g.axes) + list(ACCEPTED_WORDS)
+        close = difflib.get_close_matches(name, pool, n=1, cutoff=0.8)
+        hint = f"; did you mean {close[0]}?" if close else ""
+        return f"unknown word {full or name!r}{hint}"
+
+
+def _parse_number(text: str) -> float | int:
+    return float(text) if "." in text else int(text)
+
+
+def _machine_code(name: str) -> Code:
+    return Code(name, -1, "machine", False, "codes")
+
+
+def decode(data: bytes) -> str:
+    """UTF-8 first (with or without BOM), Latin-1 otherwise (it never fails)."""
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")
+
+
+def parse_program(text: str, path: str, control: ControlSpec) -> b.Program:
+    """Parse a whole program; never raises for bad text (findings collect the problems)."""
+    lines = text.splitlines()
+    grammar = Grammar(control)
+    variables: dict = {}
+    blocks: list[b.Block] = []
+    findings: list[Finding] = []
+    proc: b.ProcHeader | None = None
+    for lineno, raw in enumerate(lines, start=1):
+        code, _comment = split_comment(raw)
+        if not code.strip():
+            continue
+        src = SourceRef(path, lineno, 1, raw)
+        block = b.Block(index=len(blocks), line=lineno, text=raw)
+        parser = BlockParser(grammar, variables, src)
+        try:
+            parser.parse(block, code)
+        except ProgramError as exc:
+            block.kind = "bad"
+            block.items = []
+            block.error = _explain(exc, parser, src, code)
+            findings.append(block.error)
+        if block.kind == "proc" and block.proc is not None:
+            if blocks or proc is not None:
+                findings.append(
+                    error(
+                        "proc_not_first",
+                        f"PROC {block.proc.name} must be the first block of its file "
+                        "(a subprogram is a file of its own)",
+                        src.at(_col_of(raw, "PROC")),
+                    )
+                )
+            if proc is None:
+                proc = block.proc
+        blocks.append(block)
+    name = proc.name if proc else _stem(path)
+    return b.Program(path, name, lines, blocks, findings, proc, variables)
+
+
+def _explain(exc: ProgramError, parser: BlockParser, src: SourceRef, code: str) -> Finding:
+    """Turn a parse error into a finding; recognise plain text that lost its ';'."""
+    words = code.split()
+    if len(words) >= 2 and all(w[:1].isalpha() for w in words[:2]):
+        first = words[0].upper()
+        known = (
+            first in CODES
+            or first in STATEMENTS
+            or first in ACCEPTED_WORDS
+            or first in parser.g.cycles
+            or first in parser.variables
+            or parser.g.is_axis(first)
+            or _ADDR_NUM.match(first)
+            or _BLOCKNO.match(first)
+            or _GCODE.match(first)
+            or not first.isalpha()
+        )
+        if not known and words[1].isalpha():
+            return error(
+                "syntax",
+                "this line is not NC code (plain text without ';' to make it a comment)",
+                src.at(code.index(words[0]) + 1),
+            )
+    return exc.finding
+
+
+def _col_of(raw: str, word: str) -> int:
+    i = raw.upper().find(word)
+    return i + 1 if i >= 0 else 1
+
+
+def _stem(path: str) -> str:
+    import os
+
+    return os.path.splitext(os.path.basename(path))[0].upper()
