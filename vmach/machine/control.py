@@ -16,92 +16,198 @@ Reads ``[control]`` and ``[[axes]]`` of a model file (see ``models/turnmill.toml
     modulo = 360.0                 # modulo rotary axis (optional)
     home = 0.0                     # position at program start
     g90_mode = "ac"                # or "dc" (modulo axis positioning under G90)
+
+A model written as a structure formula (``formula = "WCBVXYZT"``) without ``[[axes]]`` gets its
+axes from the formula (X Y Z A B C order; rotary letters are rotary axes without modulo); a
+hand-written chain without ``[[axes]]`` gets the variables of its joints in file order.
+Travel limits and rates belong to the kinematic part (joints), not to this section.
 """
 
 from __future__ import annotations
 
+import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
 from vmach.canon import AxisSpec, ControlSpec
 from vmach.errors import InputError, ModelError
-from vmach.findings import error
+from vmach.findings import Finding, error
+from vmach.machine.formula import FormulaError, formula_axes
+from vmach.machine.tomlpos import KeyLines
 from vmach.source import SourceRef
 
+Locate = Callable[[tuple], SourceRef]
 
-def read_toml(path: str | Path) -> dict[str, Any]:
-    """Parse a TOML file; unreadable or malformed files become :class:`ModelError`."""
+
+def read_text(path: str | Path) -> str:
+    """The model file's text; unreadable or non-UTF-8 files become errors (exit 2)."""
     p = Path(path)
     try:
         data = p.read_bytes()
     except OSError as exc:
         raise InputError(f"{path}: cannot read: {exc.strerror or exc}", kind="unreadable") from None
     try:
-        return tomllib.loads(data.decode("utf-8"))
+        return data.decode("utf-8")
     except UnicodeDecodeError:
         raise ModelError([error("model", "not UTF-8 text", SourceRef(str(path), 1))]) from None
+
+
+def parse_toml(text: str, path: str) -> dict[str, Any]:
+    """Parse TOML text; a syntax error becomes :class:`ModelError` with line and column."""
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        line = getattr(exc, "lineno", None) or 1
-        col = getattr(exc, "colno", None) or 1
-        text = data.decode("utf-8", "replace").splitlines()
-        src = SourceRef(str(path), line, col, text[line - 1] if 0 < line <= len(text) else "")
+        line = getattr(exc, "lineno", None)
+        col = getattr(exc, "colno", None)
+        m = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
+        if line is None and m:  # Python < 3.14 only puts the place in the message
+            line, col = int(m.group(1)), int(m.group(2))
+        line, col = line or 1, col or 1
+        lines = text.splitlines()
+        src = SourceRef(path, line, col, lines[line - 1] if 0 < line <= len(lines) else "")
         raise ModelError([error("model_syntax", str(exc).split(" (at")[0], src)]) from None
 
 
-def control_spec(model: Mapping[str, Any], path: str = "<model>") -> ControlSpec:
-    """Build the ControlSpec of a parsed model; collects every problem before failing."""
-    problems = []
-    where = SourceRef(path, 1)
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """Parse a TOML file; unreadable or malformed files become :class:`ModelError`."""
+    return parse_toml(read_text(path), str(path))
+
+
+def _float(value: Any) -> float | None:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return None
+    return float(value)
+
+
+def default_axes(model: Mapping[str, Any]) -> list[dict[str, Any]]:
+    """``[[axes]]`` entries implied by a formula when the file has none (else ``[]``)."""
+    formula = model.get("formula")
+    if "axes" in model:
+        return []
+    if isinstance(formula, str):
+        try:
+            names = formula_axes(formula)
+        except FormulaError:
+            return []  # the kinematic loader reports the formula itself
+        return [{"name": n, "type": "rotary" if n[0] in "ABC" else "linear"} for n in names]
+    joints = model.get("joints")
+    if not isinstance(joints, list):
+        return []
+    kinds: dict[str, str] = {}
+    for j in joints:
+        if isinstance(j, Mapping) and j.get("type") in ("prismatic", "revolute"):
+            var = j.get("variable", j.get("name"))
+            if isinstance(var, str) and var:
+                kinds.setdefault(var, "rotary" if j["type"] == "revolute" else "linear")
+    return [{"name": n, "type": k} for n, k in kinds.items()]
+
+
+def collect_control(
+    model: Mapping[str, Any], path: str = "<model>", locate: Locate | None = None
+) -> tuple[ControlSpec, list[Finding]]:
+    """ControlSpec of a parsed model and every problem found (the spec is partial if any)."""
+    where: Locate = locate or (lambda key: SourceRef(path, 1))
+    problems: list[Finding] = []
+
+    def bad(key: tuple, msg: str, kind: str = "model") -> None:
+        problems.append(error(kind, msg, where(key)))
+
     ctl = model.get("control", {})
+    if not isinstance(ctl, Mapping):
+        bad(("control",), "control must be a table")
+        ctl = {}
     axes: list[AxisSpec] = []
     seen: set[str] = set()
-    for i, ax in enumerate(model.get("axes", [])):
+    entries = model.get("axes", None)
+    if entries is None:
+        entries = default_axes(model)
+    if not isinstance(entries, list):
+        bad(("axes",), "axes must be an array of tables ([[axes]])")
+        entries = []
+    for i, ax in enumerate(entries):
+        if not isinstance(ax, Mapping):
+            bad(("axes", i), f"axes[{i}] must be a table")
+            continue
         name = ax.get("name")
         if not isinstance(name, str) or not name:
-            problems.append(error("model", f"axes[{i}] has no name", where))
+            bad(("axes", i), f"axes[{i}] has no name", "missing_key")
             continue
         if name in seen:
-            problems.append(error("model", f"axis {name!r} is defined twice", where))
+            bad(("axes", i, "name"), f"axis {name!r} is defined twice", "duplicate_name")
         seen.add(name)
         kind = ax.get("type", "linear")
         if kind not in ("linear", "rotary"):
-            problems.append(error("model", f"axis {name}: type must be linear or rotary", where))
+            bad(("axes", i, "type"), f"axis {name}: type must be linear or rotary", "bad_value")
+            kind = "linear"
         modulo = ax.get("modulo")
-        if modulo is not None and (kind != "rotary" or float(modulo) <= 0):
-            problems.append(error("model", f"axis {name}: modulo needs a rotary axis and a value > 0", where))
+        if modulo is not None:
+            modulo = _float(modulo)
+            if modulo is None or kind != "rotary" or modulo <= 0:
+                bad(
+                    ("axes", i, "modulo"),
+                    f"axis {name}: modulo needs a rotary axis and a value > 0",
+                    "bad_value",
+                )
+                modulo = None
         g90 = ax.get("g90_mode", "ac")
         if g90 not in ("ac", "dc"):
-            problems.append(error("model", f"axis {name}: g90_mode must be 'ac' or 'dc'", where))
-        axes.append(
-            AxisSpec(
-                name=name,
-                kind=kind,
-                modulo=None if modulo is None else float(modulo),
-                home=float(ax.get("home", 0.0)),
-                g90_mode=g90,
-            )
-        )
-    geometry = tuple(ctl.get("geometry", ("X", "Y", "Z")))
-    if len(geometry) != 3:
-        problems.append(error("model", "control.geometry must name three axes", where))
+            bad(("axes", i, "g90_mode"), f"axis {name}: g90_mode must be 'ac' or 'dc'", "bad_value")
+            g90 = "ac"
+        home = _float(ax.get("home", 0.0))
+        if home is None:
+            bad(("axes", i, "home"), f"axis {name}: home must be a number", "bad_value")
+            home = 0.0
+        axes.append(AxisSpec(name=name, kind=kind, modulo=modulo, home=home, g90_mode=g90))
+    geometry = ctl.get("geometry", ("X", "Y", "Z"))
+    if not isinstance(geometry, list | tuple) or len(geometry) != 3:
+        bad(("control", "geometry"), "control.geometry must name three axes", "bad_value")
+        geometry = ("X", "Y", "Z")
     transverse = ctl.get("transverse")
     if transverse is not None and transverse not in seen:
-        problems.append(error("model", f"control.transverse {transverse!r} is not an axis", where))
-    spindles = tuple(int(s) for s in ctl.get("spindles", (1,)))
-    master = int(ctl.get("master_spindle", spindles[0] if spindles else 1))
-    if spindles and master not in spindles:
-        problems.append(error("model", f"control.master_spindle {master} is not in spindles", where))
-    offsets = {
-        str(k).upper(): {str(a): float(v) for a, v in dict(vals).items()}
-        for k, vals in dict(model.get("zero_offsets", {})).items()
-    }
-    if problems:
-        raise ModelError(problems)
-    return ControlSpec(
+        bad(
+            ("control", "transverse"),
+            f"control.transverse {transverse!r} is not an axis",
+            "unknown_axis",
+        )
+    spindles_raw = ctl.get("spindles", [1])
+    if not isinstance(spindles_raw, list) or not all(
+        isinstance(s, int) and not isinstance(s, bool) for s in spindles_raw
+    ):
+        bad(("control", "spindles"), "control.spindles must be a list of integers", "bad_value")
+        spindles_raw = [1]
+    spindles = tuple(spindles_raw)
+    master = ctl.get("master_spindle", spindles[0] if spindles else 1)
+    if not isinstance(master, int) or (spindles and master not in spindles):
+        bad(
+            ("control", "master_spindle"),
+            f"control.master_spindle {master} is not in spindles",
+            "bad_value",
+        )
+        master = spindles[0] if spindles else 1
+    offsets: dict[str, dict[str, float]] = {}
+    raw_offsets = model.get("zero_offsets", {})
+    if isinstance(raw_offsets, Mapping):
+        for k, vals in raw_offsets.items():
+            if not isinstance(vals, Mapping):
+                bad(("zero_offsets", k), f"zero_offsets.{k} must be a table", "bad_value")
+                continue
+            row = {}
+            for a, v in vals.items():
+                fv = _float(v)
+                if fv is None:
+                    bad(
+                        ("zero_offsets", k, a),
+                        f"zero_offsets.{k}.{a} must be a number",
+                        "bad_value",
+                    )
+                else:
+                    row[str(a)] = fv
+            offsets[str(k).upper()] = row
+    spec = ControlSpec(
         axes=tuple(axes),
-        geometry=geometry,  # type: ignore[arg-type]
+        geometry=tuple(str(g) for g in geometry),  # type: ignore[arg-type]
         transverse=transverse,
         cycles=frozenset(str(c).upper() for c in ctl.get("cycles", ())),
         gcodes=frozenset(str(g).upper() for g in ctl.get("gcodes", ())),
@@ -110,8 +216,21 @@ def control_spec(model: Mapping[str, Any], path: str = "<model>") -> ControlSpec
         spindles=spindles,
         master_spindle=master,
     )
+    return spec, problems
+
+
+def control_spec(
+    model: Mapping[str, Any], path: str = "<model>", locate: Locate | None = None
+) -> ControlSpec:
+    """Build the ControlSpec of a parsed model; collects every problem before failing."""
+    spec, problems = collect_control(model, path, locate)
+    if problems:
+        raise ModelError(problems)
+    return spec
 
 
 def load_control(path: str | Path) -> ControlSpec:
-    """ControlSpec of the model file at ``path``."""
-    return control_spec(read_toml(path), str(path))
+    """ControlSpec of the model file at ``path`` (only ``[control]``/``[[axes]]`` are read)."""
+    text = read_text(path)
+    data = parse_toml(text, str(path))
+    return control_spec(data, str(path), KeyLines.scan(text, str(path)).find)
