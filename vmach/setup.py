@@ -10,6 +10,9 @@ Command-line options win; otherwise a ``vmach.toml`` beside the program says wha
 
     [zero_offsets.G54]                   # settable zero offsets, mm / degrees
     Z = 0.0
+
+    [programs.POLY100]                   # overrides for one program (by file stem)
+    stock = "cylinder:d=120,l=150"
 """
 
 from __future__ import annotations
@@ -63,6 +66,8 @@ def read_setup(program: str | Path) -> Setup:
     if not path.is_file():
         return Setup()
     data: dict[str, Any] = read_toml(path)
+    overrides = {k.upper(): v for k, v in data.pop("programs", {}).items()}
+    data.update(overrides.get(Path(program).stem.upper(), {}))
     base = path.parent
     machine = data.get("machine")
     tools = data.get("tools")

@@ -225,7 +225,7 @@ class Machine:
                 s = self.master
             elif m in (7, 8):
                 self.coolant.add("mist" if m == 7 else "flood")
-                out.append(canon.Coolant(src, mode="+".join(sorted(self.coolant))))
+                out.append(canon.Coolant(src, mode="+".join(c for c in ("mist", "flood") if c in self.coolant)))
                 continue
             elif m == 9:
                 self.coolant.clear()

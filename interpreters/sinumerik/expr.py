@@ -17,6 +17,7 @@ Semantics kept from the control:
 from __future__ import annotations
 
 import math
+import operator
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -401,6 +402,9 @@ FUNC_IMPL: dict[str, Callable[..., Any]] = {
 }
 
 
+_HUGE = 1.7e308
+
+
 def _check_number(v):
     if isinstance(v, float) and not math.isfinite(v):
         raise EvalError("domain_error", "result is not a finite number")
@@ -515,24 +519,19 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
         except EvalError:
             pass
     # fast paths for the common arithmetic on numbers
-    if op == "+":
+    if op in ("+", "-", "*"):
+        arith = {"+": operator.add, "-": operator.sub, "*": operator.mul}[op]
 
-        def add():
+        def finite_arith():
             x, y = fa(), fb()
-            if x.__class__ is float and y.__class__ is float:
-                return x + y
-            return num(x) + num(y)
+            if x.__class__ is not float or y.__class__ is not float:
+                x, y = num(x), num(y)
+            v = arith(x, y)
+            if -_HUGE < v < _HUGE:  # false for inf and NaN
+                return v
+            raise EvalError("domain_error", "result is not a finite number")
 
-        return add
-    if op == "*":
-
-        def mul():
-            x, y = fa(), fb()
-            if x.__class__ is float and y.__class__ is float:
-                return x * y
-            return num(x) * num(y)
-
-        return mul
+        return finite_arith
     if op == "/":
         return lambda: _check_number(_div(fa(), fb()))
     return lambda: impl2(fa(), fb())

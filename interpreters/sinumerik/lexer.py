@@ -71,7 +71,11 @@ def tokenize(text: str, source: SourceRef) -> list[Token]:
         if kind == "ws":
             continue
         if kind == "num":
-            out.append(Token(NUM, tok, col, _number(tok)))
+            try:
+                value = _number(tok)
+            except OverflowError:
+                raise ProgramError("syntax", f"number {tok} is out of range", source.at(col)) from None
+            out.append(Token(NUM, tok, col, value))
         elif kind == "hex":
             out.append(Token(NUM, tok, col, int(tok[2:-1], 16)))
         elif kind == "bin":

@@ -1,0 +1,48 @@
+"""Helpers to run small Sinumerik programs written inside tests."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from interpreters import sinumerik
+from vmach.canon import DEFAULT_CONTROL, MOTIONS, ControlSpec, RunOptions, RunResult
+from vmach.findings import Finding
+
+
+def write(directory: Path, text: str, name: str = "TEST.MPF", **files: str) -> Path:
+    for fname, body in files.items():
+        (directory / fname.replace("_DOT_", ".")).write_text(body, encoding="utf-8")
+    p = directory / name
+    p.write_text(text, encoding="utf-8")
+    return p
+
+
+def run(directory: Path, text: str, control: ControlSpec = DEFAULT_CONTROL,
+        options: RunOptions = RunOptions(), name: str = "TEST.MPF", **files: str) -> RunResult:
+    return sinumerik.run(write(directory, text, name, **files), control, options)
+
+
+def ok(directory: Path, text: str, control: ControlSpec = DEFAULT_CONTROL, **files: str) -> RunResult:
+    r = run(directory, text, control, **files)
+    assert r.completed, [f.render() for f in r.findings]
+    return r
+
+
+def moves(result: RunResult) -> list:
+    return [c for c in result.commands if isinstance(c, MOTIONS)]
+
+
+def check(directory: Path, text: str, control: ControlSpec = DEFAULT_CONTROL, name: str = "TEST.MPF",
+          **files: str) -> list[Finding]:
+    return sinumerik.check(write(directory, text, name, **files), control)
+
+
+def kinds(findings: list[Finding], severity: str | None = None) -> list[tuple[str, int]]:
+    return [(f.kind, f.line) for f in findings if severity is None or f.severity == severity]
+
+
+def error_of(result: RunResult) -> Finding:
+    assert not result.completed
+    errs = [f for f in result.findings if f.severity == "error"]
+    assert errs
+    return errs[-1]

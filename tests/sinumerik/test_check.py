@@ -1,0 +1,98 @@
+"""Static diagnostics of ``check``: kind, line and column, never the prose."""
+
+from __future__ import annotations
+
+import pytest
+from catalog import TURNMILL
+from nc import check, kinds
+
+from vmach.machine.control import load_control
+
+TURN = load_control(TURNMILL)
+
+
+def where(findings, severity=None):
+    return [(f.kind, f.line, f.source.column) for f in findings
+            if severity is None or f.severity == severity]
+
+
+def test_clean_program_has_no_findings(tmp_path):
+    assert check(tmp_path, "N10 G0 X1\nN20 LBL: G1 X2 F100\nN30 IF R1<1 GOTOB LBL\nN40 M30\n") == []
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("G0 X1\nGOTOF MISSING\nM30\n", [("undefined_label", 2, 7)]),
+        ("HERE: G0 X1\nGOTOF HERE\nM30\n", [("jump_direction", 2, 7)]),
+        ("GOTOB THERE\nTHERE: M30\n", [("jump_direction", 1, 7)]),
+        ("GOTOF N99\nN50 M30\n", [("undefined_label", 1, 7)]),
+        ("AA: G0 X1\nAA: G0 X2\nM30\n", [("duplicate_label", 2, 1)]),
+        ("N20 G0 X1\nN10 G0 X2\nM30\n", [("block_number_order", 2, 1)]),
+        ("IF R1>0\nG0 X1\nM30\n", [("unbalanced_block", 1, 1)]),
+        ("G0 X1\nENDWHILE\nM30\n", [("unbalanced_block", 2, 1)]),
+        ("WHILE 1\nENDFOR\nM30\n", [("unbalanced_block", 1, 1), ("unbalanced_block", 2, 1)]),
+        ("REPEAT\nG0 X1\nM30\n", [("unbalanced_block", 1, 1)]),
+        ("G0 X1\nM30\nG0 X2\n", [("unreachable_block", 3, 1)]),
+        ("GOTOF END\nG0 X1\nG0 X2\nEND: M30\n", [("unreachable_block", 2, 1)]),
+        ("G0 X1 Q5\nM30\n", [("unknown_word", 1, 7)]),
+        ("G999 X1\nM30\n", [("unknown_gcode", 1, 1)]),
+        ("G0 G1 X1\nM30\n", [("modal_conflict", 1, 4)]),
+        ("G41 X1\nM30\n", [("unsupported", 1, 1)]),
+        ("G1 X=(1+2 F10\nM30\n", [("syntax", 1, 11)]),
+        ("G1 X=FOO F10\nM30\n", [("undefined_variable", 1, 6)]),
+        ("G0 X1\nDEF REAL A\nM30\n", [("def_position", 2, 1)]),
+        ("N10 G0 X1\nPROC LATE\nM30\n", [("proc_not_first", 2, 1)]),
+        ("NOSUCHCYCLE\nM30\n", [("unknown_cycle", 1, 1)]),
+        ("R1000=1\nM30\n", [("index_range", 1, 1)]),
+        ("G0 X1 @\nM30\n", [("syntax", 1, 7)]),
+        ("GOTOC NOWHERE\nM30\n", [("undefined_label", 1, 7)]),
+    ],
+)
+def test_defects_are_reported_at_their_place(tmp_path, text, expected):
+    assert where(check(tmp_path, text)) == expected
+
+
+def test_gotoc_missing_target_is_only_a_warning(tmp_path):
+    f = check(tmp_path, "GOTOC NOWHERE\nM30\n")
+    assert [x.severity for x in f] == ["warning"]
+
+
+def test_every_error_in_a_file_is_reported_at_once(tmp_path):
+    f = check(tmp_path, "G0 X1 Q5\nG999\nGOTOF NIX\nIF R1\nM30\n")
+    assert kinds(f, "error") == [("unknown_word", 1), ("unknown_gcode", 2), ("undefined_label", 3),
+                                 ("unbalanced_block", 4)]
+
+
+def test_machine_names_come_from_the_model(tmp_path):
+    text = "C_AXIS_ON\nG0 C1=10\nC_AXIS_OF\nM30\n"
+    assert kinds(check(tmp_path, text, TURN)) == [("unknown_cycle", 3)]
+    # without a machine, every axis letter is accepted but maker's cycles are unknown
+    assert kinds(check(tmp_path, text)) == [("unknown_cycle", 1), ("unknown_cycle", 3)]
+
+
+def test_did_you_mean_names_the_declared_cycle(tmp_path):
+    f = check(tmp_path, "C_AXIS_OF\nM30\n", TURN)
+    assert f[0].data["name"] == "C_AXIS_OF" and "C_AXIS_OFF" in f[0].message
+
+
+def test_subprogram_beside_the_program_is_known(tmp_path):
+    (tmp_path / "Helper.spf").write_text("PROC HELPER\nM17\n")
+    assert check(tmp_path, "HELPER\nM30\n") == []
+
+
+def test_stray_text_line_is_named_as_such(tmp_path):
+    f = check(tmp_path, "N10 G0 X1\nTHIS IS A NOTE 0.12 (+0.12)!!!\nM30\n")
+    assert where(f) == [("syntax", 2, 1)]
+    assert "comment" in f[0].message
+
+
+def test_unreachable_run_is_reported_once_with_its_span(tmp_path):
+    f = check(tmp_path, "GOTOF END\nG0 X1\nG0 X2\nG0 X3\nEND: M30\n")
+    assert len(f) == 1 and f[0].data == {"first_line": 2, "last_line": 4}
+
+
+def test_loop_exits_are_followed(tmp_path):
+    # a LOOP without exit makes what follows it unreachable; with an exit it does not
+    assert kinds(check(tmp_path, "LOOP\nG0 X1\nENDLOOP\nM30\n")) == [("unreachable_block", 4)]
+    assert check(tmp_path, "LOOP\nIF R1 GOTOF OUT\nENDLOOP\nOUT: M30\n") == []

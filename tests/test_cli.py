@@ -1,0 +1,103 @@
+"""The command line: exit codes, formats, diagnostics, nothing half-written."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+from catalog import POLY50, ROOT
+
+from vmach.cli import main
+
+
+def prog(tmp_path, text, name="P.MPF"):
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return str(p)
+
+
+def test_check_clean_program_exits_0(tmp_path, capsys):
+    assert main(["check", prog(tmp_path, "G0 X1\nM30\n")]) == 0
+
+
+def test_check_reports_in_compiler_format_and_exits_1(tmp_path, capsys):
+    p = prog(tmp_path, "N10 G0 X1\nN20 GOTOF NIRGENDS\nN30 M30\n")
+    assert main(["check", p]) == 1
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == f"{p}:2:11: error[undefined_label]: GOTOF NIRGENDS: label NIRGENDS does not exist"
+    assert out[1] == "    N20 GOTOF NIRGENDS"
+    assert out[2] == "              ^"
+
+
+def test_check_json(tmp_path, capsys):
+    p = prog(tmp_path, "N20 G0 X1\nN10 G0 X2\nM30\n")
+    assert main(["check", p, "--format", "json"]) == 0  # warnings only
+    data = json.loads(capsys.readouterr().out)
+    assert data == [{"severity": "warning", "kind": "block_number_order", "file": p, "line": 2,
+                     "column": 1, "message": data[0]["message"], "previous": 20, "number": 10}]
+
+
+def test_check_with_machine_by_name(tmp_path, capsys):
+    p = prog(tmp_path, "C_AXIS_ON\nG0 C1=10\nM30\n")
+    assert main(["check", p]) == 1
+    assert main(["check", p, "--machine", "turnmill"]) == 0
+    assert main(["check", p, "--machine", "no_such_machine"]) == 2
+    assert "not found" in capsys.readouterr().err
+
+
+def test_run_text_and_json_lines(tmp_path, capsys):
+    p = prog(tmp_path, "G0 X1 Y2\nG1 Z-1 F100\nM30\n")
+    assert main(["run", p, "--format", "json"]) == 0
+    rows = [json.loads(x) for x in capsys.readouterr().out.splitlines()]
+    assert rows[0] == {"kind": "traverse", "file": p, "line": 1, "axes": {"X": 1.0, "Y": 2.0, "Z": 0.0},
+                       "feed": None}
+    assert rows[1]["kind"] == "feed" and rows[1]["feed"] == 100.0 and rows[1]["axes"]["Z"] == -1.0
+    assert rows[-1] == {"kind": "program_end", "file": p, "line": 3, "code": "M30"}
+    assert main(["run", p]) == 0
+    assert "traverse" in capsys.readouterr().out
+
+
+def test_run_output_file_is_written_only_on_success(tmp_path, capsys):
+    good = prog(tmp_path, "G0 X1\nM30\n", "GOOD.MPF")
+    bad = prog(tmp_path, "G0 X1\nR1=1/0\nM30\n", "BAD.MPF")
+    out = tmp_path / "trace.txt"
+    assert main(["run", bad, "-o", str(out)]) == 1
+    assert not out.exists() and list(tmp_path.glob(".trace*")) == []
+    err = capsys.readouterr().err
+    assert f"{bad}:2:1: error[division_by_zero]" in err
+    assert main(["run", good, "-o", str(out)]) == 0
+    assert "traverse" in out.read_text()
+
+
+def test_runtime_limit_and_usage_errors(tmp_path, capsys):
+    loop = prog(tmp_path, "LL: G0 X=R1\nR1=R1+1\nGOTOB LL\n")
+    assert main(["run", loop, "--max-blocks", "500"]) == 1
+    assert "error[block_limit]" in capsys.readouterr().err
+    assert main(["run", str(tmp_path / "missing.mpf")]) == 2
+    assert main(["run", prog(tmp_path, "x", "P.TXT")]) == 2
+    assert main(["run", loop, "--format", "yaml"]) == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["run"])
+    assert exc.value.code == 2
+
+
+def test_unreadable_model_is_a_clear_error(tmp_path, capsys):
+    model = tmp_path / "m.toml"
+    model.write_text("[control\nx=1\n")
+    assert main(["check", prog(tmp_path, "M30\n"), "--machine", str(model)]) == 2
+    err = capsys.readouterr().err
+    assert "error[model_syntax]" in err and "Traceback" not in err
+
+
+def test_setup_file_beside_the_program_selects_the_machine(capsys):
+    assert main(["check", str(POLY50)]) == 0  # fixtures/polygon_shaft/vmach.toml names turnmill
+
+
+def test_console_script_runs_without_traceback(tmp_path):
+    p = prog(tmp_path, "G0 X1\nG1 X=SQRT(-1) F1\nM30\n")
+    r = subprocess.run([sys.executable, "-m", "vmach", "run", p], capture_output=True, text=True,
+                       cwd=ROOT, timeout=60)
+    assert r.returncode == 1
+    assert "error[domain_error]" in r.stderr and "Traceback" not in r.stderr
