@@ -1,0 +1,313 @@
+"""The RS274/NGC interpreter: reads lines, runs control flow, executes blocks.
+
+The phases follow LinuxCNC (rs274ngc_pre.cc ``Interp::read``/``Interp::execute`` driven by
+``rs274``'s driver.cc): initialise (the preamble of canonical calls), open the file (a first
+line ``%`` switches to percent mode), then for every line read it, parse and check it, run
+O-word control functions, store the parameter settings of the line, and execute the block in
+LinuxCNC's order (:mod:`interpreters.rs274ngc.execute`). The program ends at M2/M30, or at
+the closing ``%`` in percent mode; running off the end of the file is an error.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from interpreters.rs274ngc import block as blk
+from interpreters.rs274ngc.cycles import CycleMixin
+from interpreters.rs274ngc.diag import NgcError
+from interpreters.rs274ngc.execute import ExecuteMixin
+from interpreters.rs274ngc.flow import FlowMixin
+from interpreters.rs274ngc.lexer import Line, parse_line
+from interpreters.rs274ngc.motion import MotionMixin
+from interpreters.rs274ngc.offsets import OffsetMixin
+from interpreters.rs274ngc.output import Output
+from interpreters.rs274ngc.state import Params, Settings, ToolTable
+from vmach.canon import ControlSpec, RunOptions
+from vmach.findings import Finding, error
+from vmach.source import SourceRef
+
+END = 1
+
+
+class Program:
+    """The lines of one file, parsed on first use."""
+
+    __slots__ = ("path", "raw", "lines", "refs")
+
+    def __init__(self, path: str, text: str):
+        self.path = path
+        self.raw = text.split("\n")
+        if self.raw and self.raw[-1] == "":
+            self.raw.pop()
+        self.lines: list[Line | None] = [None] * len(self.raw)
+        self.refs: list[SourceRef | None] = [None] * len(self.raw)
+
+    def line(self, i: int) -> Line:
+        ln = self.lines[i]
+        if ln is None:
+            raw = self.raw[i]
+            if raw.endswith("\r"):
+                raw = raw[:-1]
+            ln = self.lines[i] = parse_line(i + 1, raw)
+        return ln
+
+    def ref(self, i: int, column: int = 1) -> SourceRef:
+        if column != 1:
+            return SourceRef(self.path, i + 1, column, self.raw[i].rstrip("\r"))
+        r = self.refs[i]
+        if r is None:
+            r = self.refs[i] = SourceRef(self.path, i + 1, 1, self.raw[i].rstrip("\r"))
+        return r
+
+
+def load_program(path: str) -> Program:
+    try:
+        data = Path(path).read_bytes()
+    except OSError as exc:
+        raise NgcError("unreadable", path=path, reason=exc.strerror or str(exc)) from None
+    return Program(path, data.decode("utf-8", errors="replace"))
+
+
+class Interpreter(FlowMixin, ExecuteMixin, MotionMixin, CycleMixin, OffsetMixin):
+    """One run of one program."""
+
+    def __init__(self, path: str, control: ControlSpec, options: RunOptions, out: Output,
+                 tools: ToolTable, block_delete: bool = False):
+        self.path = str(path)
+        self.directory = Path(path).resolve().parent
+        self.spec = control
+        self.options = options
+        self.out = out
+        self.tools = tools
+        self.block_delete = block_delete
+        self.s = Settings()
+        self.pars = Params()
+        self.programs: dict[str, Program] = {}
+        self.prog: Program | None = None
+        self.pc = 0  # index of the next line to read in self.prog
+        self.index = 0  # index of the line being executed
+        self.line: Line | None = None
+        self.percent = False
+        self.blocks = 0
+        self.ended = False
+        self.strict = control.strict_axes
+        self.known_axes = {a.name for a in control.axes}
+        self.init_flow()
+
+    # -- evaluation context (see expr.py) ----------------------------------------------------
+
+    def par(self, i: int) -> float:
+        if i < 1 or i >= 5602:
+            raise NgcError("parameter_range")
+        if 5420 <= i <= 5425:
+            return self.s.pos[i - 5420]
+        return self.pars.num[i]
+
+    def named(self, name: str) -> float:
+        v = self.named_value(name)
+        if v is None:
+            raise NgcError("undefined_parameter", name=name)
+        return v
+
+    def exists(self, name: str) -> bool:
+        return self.named_value(name) is not None
+
+    def tool_diameter(self, tool: int) -> float:
+        index = self.tools.index(tool)
+        if index is None:
+            return 0.0
+        return self.tools.entry(index).diameter
+
+    def named_value(self, name: str) -> float | None:
+        if name.startswith("_"):
+            if name in self.pars.globals:
+                return self.pars.globals[name]
+            fn = PREDEFINED.get(name)
+            return None if fn is None else float(fn(self))
+        return self.pars.locals[-1].get(name)
+
+    # -- running -----------------------------------------------------------------------------
+
+    def preamble(self) -> None:
+        """Interp::init as rs274 calls it (5 canonical calls)."""
+        out = self.out
+        out.use_length_units(True)
+        out.set_g5x_offset(1, [0.0] * 6)
+        out.set_g92_offset([0.0] * 6)
+        out.set_xy_rotation(0.0)
+        out.set_feed_reference()
+
+    def open(self) -> None:
+        """Interp::open: load the main file; a first non-blank line ``%`` is percent mode."""
+        self.prog = load_program(self.path)
+        self.programs[self.path] = self.prog
+        raw = self.prog.raw
+        i = 0
+        while i < len(raw) and not raw[i].strip():
+            i += 1
+        if i >= len(raw):
+            self.line = None
+            raise NgcError("file_ended_percent")
+        if raw[i].strip() == "%":
+            self.percent = True
+            self.pc = i + 1
+        else:
+            self.pc = 0
+
+    def run(self) -> tuple[bool, Finding | None]:
+        """Run the program; returns (completed, the error that stopped it)."""
+        self.preamble()
+        try:
+            self.open()
+        except NgcError as exc:
+            return False, self.finding(exc)
+        self.out.simple("ON_RESET")
+        finding = None
+        completed = True
+        try:
+            self.main_loop()
+        except NgcError as exc:
+            finding = self.finding(exc)
+            completed = False
+        except RecursionError:
+            finding = self.finding(NgcError("call_depth"))
+            completed = False
+        self.out.nlabel = "N..... "
+        self.out.simple("ON_RESET")
+        self.out.simple("ON_RESET")
+        return completed, finding
+
+    def main_loop(self) -> None:
+        limit = self.options.max_blocks
+        out = self.out
+        while True:
+            prog = self.prog
+            pc = self.pc
+            if pc >= len(prog.raw):
+                self.end_of_file()
+            line = prog.lines[pc] or prog.line(pc)
+            self.pc = pc + 1
+            self.index = pc
+            self.line = line
+            out.nlabel = line.nlabel
+            if out.want:
+                out.src = prog.refs[pc] or prog.ref(pc)
+            self.blocks += 1
+            if self.blocks > limit:
+                raise NgcError("block_limit", limit=limit)
+            if self.step(line) == END:
+                return
+
+    def end_of_file(self) -> None:
+        if self.prog.raw:
+            self.index = len(self.prog.raw) - 1
+            self.line = self.prog.line(self.index)
+        if self.seeking is not None:
+            name, line_no, path = self.seeking
+            raise NgcError("seeking_o_word", file=path, name=name, line=line_no)
+        raise NgcError("file_ended_percent" if self.percent else "file_ended")
+
+    def step(self, line: Line):
+        s = self.s
+        if s.toolchange_flag:  # a tool change may move the controlled point: re-read it
+            s.pos = list(self.out.ppos)
+            s.toolchange_flag = False
+        if line.skip_error is not None:
+            raise line.skip_error
+        if line.percent:
+            if self.percent:
+                self.out.finish()
+                return END
+            raise NgcError("bad_character", 1, char="%")
+        if line.blank or (line.slash and self.block_delete):
+            return None
+        if line.o is not None or (line.error is not None and not line.items):
+            if line.o is None:
+                raise line.error
+            return self.control(line)
+        block = blk.read_block(line, self)
+        blk.enhance(block, s.motion)
+        blk.check(block, s.incremental)
+        if self.strict:
+            self.check_axes(block)
+        if not line.const:
+            for i, v in block.settings:
+                self.pars.num[i] = v
+            for name, v in block.named:
+                self.store_named(name, v)
+        return self.execute_block(block)
+
+    def check_axes(self, block: blk.Block) -> None:
+        for letter in "xyzabc":
+            if letter in block.words and letter.upper() not in self.known_axes:
+                raise NgcError("unknown_axis", axis=letter.upper())
+
+    def store_named(self, name: str, value: float) -> None:
+        if name in PREDEFINED and name not in ("_value", "_value_returned"):
+            raise NgcError("named_parameter_readonly", name=name)
+        self.pars.store_named(name, value)
+
+    def finding(self, exc: NgcError) -> Finding:
+        prog = self.prog
+        if prog is None or not prog.raw:
+            src = SourceRef(self.path, 1, 1, "")
+        else:
+            i = min(self.index, len(prog.raw) - 1)
+            src = prog.ref(i, exc.column or 1)
+        return error(exc.kind, exc.message, src)
+
+
+def _coord_system(it) -> float:
+    i = it.s.origin_index
+    return (530 + 10 * i) if i <= 6 else (590 + i - 6)
+
+
+PREDEFINED = {
+    "_vmajor": lambda it: 2.9,
+    "_vminor": lambda it: 0.0,
+    "_line": lambda it: it.index + 1,
+    "_motion_mode": lambda it: it.s.motion,
+    "_plane": lambda it: it.s.plane,
+    "_ccomp": lambda it: 400,
+    "_metric": lambda it: it.s.metric,
+    "_imperial": lambda it: not it.s.metric,
+    "_absolute": lambda it: not it.s.incremental,
+    "_incremental": lambda it: it.s.incremental,
+    "_inverse_time": lambda it: it.s.feed_mode == 1,
+    "_units_per_minute": lambda it: it.s.feed_mode == 0,
+    "_units_per_rev": lambda it: it.s.feed_mode == 2,
+    "_coord_system": _coord_system,
+    "_tool_offset": lambda it: any(it.s.tool_offset),
+    "_retract_r_plane": lambda it: it.s.retract_r,
+    "_retract_old_z": lambda it: not it.s.retract_r,
+    "_spindle_rpm_mode": lambda it: 1,
+    "_spindle_css_mode": lambda it: 0,
+    "_ijk_absolute_mode": lambda it: it.s.ijk_absolute,
+    "_lathe_diameter_mode": lambda it: 0,
+    "_lathe_radius_mode": lambda it: 1,
+    "_spindle_on": lambda it: it.s.spindle != "stop",
+    "_spindle_cw": lambda it: it.s.spindle == "cw",
+    "_mist": lambda it: it.s.mist,
+    "_flood": lambda it: it.s.flood,
+    "_speed_override": lambda it: it.s.speed_override,
+    "_feed_override": lambda it: it.s.feed_override,
+    "_adaptive_feed": lambda it: 0,
+    "_feed_hold": lambda it: 0,
+    "_feed": lambda it: it.s.feed,
+    "_rpm": lambda it: it.s.speed,
+    "_x": lambda it: it.s.pos[0],
+    "_y": lambda it: it.s.pos[1],
+    "_z": lambda it: it.s.pos[2],
+    "_a": lambda it: it.s.pos[3],
+    "_b": lambda it: it.s.pos[4],
+    "_c": lambda it: it.s.pos[5],
+    "_current_tool": lambda it: it.tools.spindle.number,
+    "_current_pocket": lambda it: it.s.current_pocket,
+    "_selected_tool": lambda it: it.s.selected_tool,
+    "_selected_pocket": lambda it: it.s.selected_pocket,
+    "_value": lambda it: 0.0,
+    "_value_returned": lambda it: 0.0,
+    "_task": lambda it: 0,
+    "_call_level": lambda it: len(it.frames) - 1,
+    "_remap_level": lambda it: 0,
+}

@@ -1,0 +1,356 @@
+"""Reading one RS274/NGC line into items, as LinuxCNC's ``read_text``/``read_items`` do.
+
+A line is first *reduced* (``close_and_downcase``): blanks and tabs outside comments are
+dropped and letters outside comments are lower-cased; ``(...)`` comments keep their text and
+may not nest; ``;`` starts a comment to the end of the line. Then the items are read left to
+right: an optional ``/`` (block delete) and ``N`` number first, then either an O-word control
+line or words (``g1``, ``x[#1+2]``), parameter settings (``#5=2``, ``#<name>=#5``) and
+comments.
+
+Parsing happens once per source line. Values are constants or functions of the evaluation
+context (see :mod:`interpreters.rs274ngc.expr`). A syntax error does not stop parsing at
+once: it is kept in ``Line.error`` and raised when execution reaches that point of the line,
+after the items before it have been evaluated, which is the order LinuxCNC reports errors in.
+"""
+
+from __future__ import annotations
+
+import re
+
+from interpreters.rs274ngc.diag import NgcError
+from interpreters.rs274ngc.expr import Reader, Value
+
+# letters that start a word (LinuxCNC _readers[]); n and o only at the start of a line
+WORD_LETTERS = frozenset("abcdefghijklmpqrstxyz")  # rs274 machine: no U V W
+O_KINDS = (
+    "sub", "endsub", "call", "do", "while", "repeat", "if", "elseif", "else", "endif",
+    "break", "continue", "endwhile", "endrepeat", "return",
+)
+_UPPER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz")
+_BLANKS = str.maketrans("", "", " \t\r")
+_SIMPLE = re.compile(r"(?:[a-mp-txyz][+-]?(?:\d+\.?\d*|\.\d+))+")
+_SIMPLE_WORD = re.compile(r"([a-z])([+-]?(?:\d+\.?\d*|\.\d+))")
+_DIGITS = re.compile(r"\d*")
+
+
+class OLine:
+    """An O-word control line.
+
+    kind : one of :data:`O_KINDS`.
+    name : the label as written inside ``<>`` or the number as text ("100").
+    col : source column of the ``o``.
+    args : call arguments (values) for ``call``.
+    value : the condition of while/if/elseif/repeat, or the return value of endsub/return.
+    """
+
+    __slots__ = ("kind", "name", "col", "args", "value", "comment")
+
+    def __init__(self, kind, name, col, args=(), value=None, comment=None):
+        self.kind = kind
+        self.name = name
+        self.col = col
+        self.args = args
+        self.value = value
+        self.comment = comment
+
+
+class Line:
+    """One source line, parsed.
+
+    number : 1-based line number in its file.
+    raw : the text without the line end.
+    nlabel : LinuxCNC's N column for trace output ("N10    " or "N..... ").
+    skip_error : error raised even when the line is skipped (comment and N-number format).
+    blank : nothing to execute (empty after reduction, or a block-deleted line).
+    slash : the line starts with ``/`` (block delete).
+    percent : the line is a lone ``%``.
+    items : words, settings and comments in reading order (see module docstring).
+    error : the syntax error to raise after the items, if any.
+    o : the O-word of a control line, else None.
+    """
+
+    __slots__ = ("number", "raw", "nlabel", "skip_error", "blank", "slash", "percent",
+                 "items", "error", "o", "const")
+
+    def __init__(self, number: int, raw: str):
+        self.number = number
+        self.raw = raw
+        self.nlabel = n_label(raw)
+        self.skip_error: NgcError | None = None
+        self.blank = False
+        self.slash = False
+        self.percent = False
+        self.items: list[tuple] = []
+        self.error: NgcError | None = None
+        self.o: OLine | None = None
+        self.const = False
+
+
+def n_label(raw: str) -> str:
+    """The N column ``rs274`` prints for a line (saicanon print_nc_line_number)."""
+    k = 0
+    n = len(raw)
+    while k < n and raw[k] in "\t /":
+        k += 1
+    if k < n and raw[k] in "nN":
+        m = _DIGITS.match(raw, k + 1).group()
+        return "N" + m + " " * max(0, 6 - len(m))
+    return "N..... "
+
+
+def column_map(raw: str) -> list[int]:
+    """1-based source column of each character of the reduced line."""
+    cols = []
+    comment = semi = False
+    for i, ch in enumerate(raw):
+        if ch == ";" and not comment:
+            semi = True
+        if semi or comment:
+            cols.append(i + 1)
+            if comment and ch == ")":
+                comment = False
+            continue
+        if ch in " \t\r":
+            continue
+        if ch == "(":
+            comment = True
+        cols.append(i + 1)
+    return cols
+
+
+def reduce_line(raw: str) -> str:
+    """close_and_downcase: drop blanks and lower-case outside comments; check comments."""
+    if "(" not in raw and ";" not in raw and ")" not in raw:
+        return raw.translate(_BLANKS).translate(_UPPER)
+    out = []
+    comment = semi = False
+    for i, ch in enumerate(raw):
+        if ch == ";" and not comment:
+            semi = True
+        if semi:
+            out.append(ch)
+            continue
+        if comment:
+            out.append(ch)
+            if ch == ")":
+                comment = False
+            elif ch == "(":
+                raise NgcError("nested_comment", i + 1)
+        elif ch in " \t\r":
+            continue
+        elif "A" <= ch <= "Z":
+            out.append(chr(ord(ch) + 32))
+        else:
+            if ch == "(":
+                comment = True
+            out.append(ch)
+    if comment:
+        raise NgcError("unclosed_comment", raw.find("(") + 1)
+    return "".join(out)
+
+
+def parse_line(number: int, raw: str) -> Line:
+    """Parse one source line (without its line end)."""
+    line = Line(number, raw)
+    try:
+        text = reduce_line(raw)
+    except NgcError as exc:
+        line.skip_error = exc
+        return line
+    if text == "%":
+        line.percent = True
+        return line
+    if not text:
+        line.blank = True
+        return line
+    simple = _SIMPLE.fullmatch(text)
+    if simple and text[0] != "n":
+        line.items = [("w", m.group(1), float(m.group(2)), 0) for m in _SIMPLE_WORD.finditer(text)]
+        line.const = True
+        return line
+    _parse_items(line, text)
+    return line
+
+
+def _parse_items(line: Line, text: str) -> None:
+    reader = _LazyReader(text, line.raw)
+    pos = 0
+    if text[0] == "/":
+        line.slash = True
+        pos = 1
+        if len(text) == 1:
+            line.blank = True
+            return
+    if pos < len(text) and text[pos] == "n":
+        try:
+            pos = _n_number(reader, pos)
+        except NgcError as exc:
+            line.skip_error = exc
+            return
+    if pos >= len(text):
+        line.blank = True
+        return
+    if text[pos] == "o":
+        try:
+            line.o = _o_line(reader, pos)
+        except NgcError as exc:
+            line.error = exc
+        return
+    if text[pos] == "m" and _is_fanuc_sub(reader, pos):
+        line.error = NgcError("unsupported", reader.col(pos),
+                              what="Fanuc-style subroutine (M98/M99)")
+        return
+    items = line.items
+    try:
+        while pos < len(text):
+            pos = _item(reader, pos, items)
+    except NgcError as exc:
+        line.error = exc
+    line.const = line.error is None and all(
+        it[0] == "w" and type(it[2]) is float for it in items
+    )
+
+
+class _LazyReader(Reader):
+    """A :class:`Reader` that computes the column map only when a diagnostic needs it."""
+
+    __slots__ = ("raw", "_cols")
+
+    def __init__(self, text: str, raw: str):
+        self.text = text
+        self.raw = raw
+        self._cols = None
+
+    @property
+    def cols(self):  # type: ignore[override]
+        if self._cols is None:
+            self._cols = column_map(self.raw)
+        return self._cols
+
+
+def _n_number(reader: Reader, pos: int) -> int:
+    m = _DIGITS.match(reader.text, pos + 1).group()
+    if not m:
+        raise reader.error("bad_line_number", pos + 1)
+    pos += 1 + len(m)
+    if pos < len(reader.text) and reader.text[pos] == ".":
+        m = _DIGITS.match(reader.text, pos + 1).group()
+        if not m:
+            raise reader.error("bad_line_number", pos + 1)
+        pos += 1 + len(m)
+    return pos
+
+
+def _is_fanuc_sub(reader: Reader, pos: int) -> bool:
+    try:
+        v, _ = reader.integer(pos + 1)
+    except NgcError:
+        return False
+    return type(v) is float and v == 98.0
+
+
+def _item(reader: Reader, pos: int, items: list) -> int:
+    text = reader.text
+    c = text[pos]
+    col = reader.col(pos)
+    if c in WORD_LETTERS:
+        v, end = reader.real_value(pos + 1)
+        items.append(("w", c, v, col))
+        return end
+    if c == "(":
+        end = text.index(")", pos)
+        items.append(("c", text[pos + 1 : end], col))
+        return end + 1
+    if c == ";":
+        return len(text)
+    if c == "#":
+        return _setting(reader, pos, items, col)
+    if c in "$@^":
+        what = {"$": "spindle selection ($)", "@": "polar coordinates (@)",
+                "^": "polar coordinates (^)"}[c]
+        raise NgcError("unsupported", col, what=what)
+    if c < " " or c > "z" or c == " ":
+        raise NgcError("bad_character", col, char="\\%03o" % (ord(c) & 0xFF))
+    raise NgcError("bad_character", col, char=c)
+
+
+def _setting(reader: Reader, pos: int, items: list, col: int) -> int:
+    text = reader.text
+    pos += 1
+    if pos < len(text) and text[pos] == "<":
+        name, pos = reader.name(pos)
+        if pos >= len(text) or text[pos] != "=":
+            raise reader.error("equal_sign_missing", pos)
+        v, pos = reader.real_value(pos + 1)
+        items.append(("n", name, v, col))
+        return pos
+    index, pos = reader.integer(pos)
+    items.append(("i", index, None, col))  # checked (range, read-only) before reading '='
+    if pos >= len(text) or text[pos] != "=":
+        raise reader.error("equal_sign_missing", pos)
+    v, pos = reader.real_value(pos + 1)
+    items[-1] = ("p", index, v, col)
+    return pos
+
+
+def _o_line(reader: Reader, pos: int) -> OLine:
+    text = reader.text
+    col = reader.col(pos)
+    pos += 1
+    if pos < len(text) and text[pos] == "<":
+        name, pos = reader.name(pos)
+    else:
+        v, pos = reader.integer(pos)
+        if type(v) is not float:
+            raise NgcError("unsupported", col, what="an O-word number computed from parameters")
+        name = str(int(v))
+    kind = next((k for k in O_KINDS if text.startswith(k, pos)), None)
+    if kind is None:
+        if pos >= len(text) or text[pos] in "(;":
+            raise NgcError("unsupported", col, what="Fanuc-style O-word program number")
+        raise reader.error("unknown_o_command", pos)
+    pos += len(kind)
+    o = OLine(kind, name, col)
+    if kind in ("while", "if", "elseif", "repeat"):
+        if pos >= len(text) or text[pos] != "[":
+            raise reader.error("o_bracket_missing", pos, what=kind)
+        o.value, pos = reader.expression(pos)
+    elif kind in ("endsub", "return"):
+        if pos < len(text) and text[pos] == "[":
+            o.value, pos = reader.expression(pos)
+    elif kind == "call":
+        args: list[Value] = []
+        while pos < len(text) and text[pos] in "[(":
+            if text[pos] == "(":
+                end = text.index(")", pos)
+                o.comment = text[pos + 1 : end]
+                pos = end + 1
+                continue
+            if len(args) >= 30:
+                raise reader.error("too_many_arguments", pos)
+            v, pos = reader.expression(pos)
+            args.append(v)
+        o.args = args
+    while pos < len(text):
+        if text[pos] == ";":
+            break
+        if text[pos] == "(":
+            end = text.index(")", pos)
+            o.comment = text[pos + 1 : end]
+            pos = end + 1
+            continue
+        raise reader.error("text_after_o_word", pos)
+    return o
+
+
+def item_column(line: Line, k: int) -> int:
+    """Source column of the k-th item of a line parsed by the fast path (columns unset)."""
+    cols = column_map(line.raw)
+    text = reduce_line(line.raw)
+    seen = -1
+    for i, ch in enumerate(text):
+        if ch in WORD_LETTERS:
+            seen += 1
+            if seen == k:
+                return cols[i]
+    return 1

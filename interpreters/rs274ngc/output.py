@@ -1,0 +1,332 @@
+# ruff: noqa: UP031  (printf formats mirror LinuxCNC's C printf calls)
+"""The canonical calls the interpreter makes, written two ways.
+
+1. The trace LinuxCNC's standalone interpreter ``rs274 -g`` prints: one line per call with an
+   output counter, the N column and the call with ``%.4f`` numbers in *program* units
+   (saicanon.cc's formats).
+2. vmach's canonical commands (:mod:`vmach.canon`): mm, machine-axis values after the work
+   offsets (G54.., G92, XY rotation) are applied, each with its :class:`SourceRef`.
+
+The class keeps the small model of the machine that both need (units, offsets, motion
+control mode, spindle, coolant), as saicanon.cc keeps its "dummy world".
+"""
+
+from __future__ import annotations
+
+import math
+
+from vmach import canon as vc
+from vmach.source import SourceRef
+
+PLANE_NAMES = {170: "XY", 180: "XZ", 190: "YZ"}
+#: (first, second, normal) axes of the arc plane for vmach.canon.ArcFeed
+PLANE_AXES = {170: ("X", "Y", "Z"), 180: ("Z", "X", "Y"), 190: ("Y", "Z", "X")}
+_LETTERS = "XYZABC"
+
+
+class Output:
+    """Receives canonical calls; collects trace lines and/or vmach commands.
+
+    trace : keep the rs274 trace lines in :attr:`lines`.
+    commands : keep vmach canonical commands in :attr:`commands`.
+    axes : machine axis names in model order (from the ControlSpec) with their home values.
+    """
+
+    def __init__(self, trace: bool, commands: bool, axes: dict[str, float]):
+        self.trace = trace
+        self.want = commands
+        self.lines: list[str] = []
+        self.commands: list[vc.Command] = []
+        self.count = 0
+        self.nlabel = "N..... "
+        self.src = SourceRef("<init>", 1)
+        self.axes = dict(axes)
+        self.extra_axes: set[str] = set()
+        # world model (saicanon): its idea of the position, in program units, knows
+        # nothing of rotation or tool offsets; the interpreter re-reads it after M6/M61
+        self.ppos = [0.0] * 6
+        self.unit = 1.0  # mm per program unit
+        self.g5x = [0.0] * 6
+        self.g92 = [0.0] * 6
+        self.rotation = 0.0
+        self.mode = "continuous"
+        self.tolerance = 0.0
+        self.naivecam = 0.0
+        self.speed = 0.0
+        self.direction = "stop"
+        self.mist = False
+        self.flood = False
+
+    # -- plumbing -------------------------------------------------------------------------
+
+    def _p(self, body: str) -> None:
+        self.count += 1
+        self.lines.append(f"{self.count:5d} {self.nlabel}{body}")
+
+    def _c(self, cmd: vc.Command) -> None:
+        self.commands.append(cmd)
+
+    def machine(self, p) -> dict[str, float]:
+        """Program coordinates (x y z a b c) -> machine axis values in mm / degrees."""
+        u = self.unit
+        x = p[0] + self.g92[0]
+        y = p[1] + self.g92[1]
+        if self.rotation:
+            t = math.radians(self.rotation)
+            x, y = x * math.cos(t) - y * math.sin(t), x * math.sin(t) + y * math.cos(t)
+        out = dict(self.axes)
+        out["X"] = (x + self.g5x[0]) * u
+        out["Y"] = (y + self.g5x[1]) * u
+        out["Z"] = (p[2] + self.g92[2] + self.g5x[2]) * u
+        for i in (3, 4, 5):
+            name = _LETTERS[i]
+            if name in out or name in self.extra_axes:
+                out[name] = p[i] + self.g92[i] + self.g5x[i]
+        return out
+
+    def _frame(self) -> None:
+        if not self.want:
+            return
+        t = math.radians(self.rotation)
+        c, s = math.cos(t), math.sin(t)
+        self._c(vc.SetFrame(self.src, origin=self.machine([0.0] * 6),
+                            rotation=(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)))
+
+    # -- setup calls ----------------------------------------------------------------------
+
+    def use_length_units(self, metric: bool) -> None:
+        if self.trace:
+            self._p("USE_LENGTH_UNITS(CANON_UNITS_MM)" if metric else
+                    "USE_LENGTH_UNITS(CANON_UNITS_INCHES)")
+        new = 1.0 if metric else 25.4
+        if new != self.unit:
+            f = self.unit / new
+            self.ppos = [v * f if i < 3 else v for i, v in enumerate(self.ppos)]
+            self.g5x = [v * f if i < 3 else v for i, v in enumerate(self.g5x)]
+            self.g92 = [v * f if i < 3 else v for i, v in enumerate(self.g92)]
+            self.unit = new
+
+    def set_g5x_offset(self, index: int, v) -> None:
+        if self.trace:
+            self._p("SET_G5X_OFFSET(%d, %.4f, %.4f, %.4f, %.4f, %.4f, %.4f)" % (index, *v[:6]))
+        self.ppos = [self.ppos[i] + self.g5x[i] - v[i] for i in range(6)]
+        self.g5x = list(v[:6])
+        self._frame()
+
+    def set_g92_offset(self, v) -> None:
+        if self.trace:
+            self._p("SET_G92_OFFSET(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)" % tuple(v[:6]))
+        self.ppos = [self.ppos[i] + self.g92[i] - v[i] for i in range(6)]
+        self.g92 = list(v[:6])
+        self._frame()
+
+    def set_xy_rotation(self, r: float) -> None:
+        if self.trace:
+            self._p("SET_XY_ROTATION(%.4f)" % r)
+        changed = r != self.rotation
+        self.rotation = r
+        if changed:
+            self._frame()
+
+    def simple(self, name: str) -> None:
+        """A call without arguments and without effect on vmach commands."""
+        if self.trace:
+            self._p(name + "()")
+
+    def set_feed_reference(self) -> None:
+        if self.trace:
+            self._p("SET_FEED_REFERENCE(CANON_XYZ)")
+
+    def comment(self, text: str, program: bool = False) -> None:
+        if self.trace:
+            self._p('COMMENT("%s")' % text)
+        if program and self.want:
+            self._c(vc.Comment(self.src, text=text))
+
+    def message(self, text: str) -> None:
+        if self.trace:
+            self._p('MESSAGE("%s")' % text)
+        if self.want:
+            self._c(vc.Message(self.src, text=text))
+
+    def print_text(self, text: str) -> None:
+        """(PRINT,...) goes straight to rs274's stdout, without a counter."""
+        if self.trace:
+            self.lines.append(text)
+
+    def select_plane(self, plane: int) -> None:
+        if self.trace:
+            self._p("SELECT_PLANE(CANON_PLANE_%s)" % PLANE_NAMES[plane])
+        if self.want:
+            self._c(vc.PlaneSelect(self.src, plane=PLANE_AXES[plane]))
+
+    def set_feed_mode(self, mode: int, interp_mode: int) -> None:
+        if self.trace:
+            self._p("SET_FEED_MODE(0, %d)" % mode)
+        if self.want:
+            name = ("per_minute", "inverse_time", "per_rev")[interp_mode]
+            self._c(vc.FeedMode(self.src, mode=name))
+
+    def set_feed_rate(self, rate: float) -> None:
+        if self.trace:
+            self._p("SET_FEED_RATE(%.4f)" % rate)
+
+    def set_motion_control_mode(self, mode: str, tolerance: float = 0.0) -> None:
+        if self.trace:
+            if mode == "continuous":
+                self._p("SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, %f)" % tolerance)
+            elif mode == "exact_path":
+                self._p("SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)")
+            else:
+                self._p("SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP)")
+        self.mode = mode
+        self.tolerance = tolerance if mode == "continuous" else 0.0
+
+    def set_naivecam_tolerance(self, tolerance: float) -> None:
+        if self.trace:
+            self._p("SET_NAIVECAM_TOLERANCE(%.4f)" % tolerance)
+        self.naivecam = tolerance
+
+    # -- motion -----------------------------------------------------------------------------
+
+    def straight_traverse(self, p) -> None:
+        if self.trace:
+            self._p("STRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)" % tuple(p))
+        self.ppos = list(p)
+        if self.want:
+            self._c(vc.Traverse(self.src, axes=self.machine(p)))
+
+    def straight_feed(self, p, feed: float) -> None:
+        if self.trace:
+            self._p("STRAIGHT_FEED(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)" % tuple(p))
+        self.ppos = list(p)
+        if self.want:
+            self._c(vc.LinearFeed(self.src, axes=self.machine(p), feed=feed))
+
+    def arc_feed(self, plane: int, e1, e2, c1, c2, rotation: int, e3, abc, feed: float) -> None:
+        if self.trace:
+            self._p("ARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)"
+                    % (e1, e2, c1, c2, rotation, e3, abc[0], abc[1], abc[2]))
+        end = _unplane(plane, e1, e2, e3) + list(abc)
+        self.ppos = end
+        if self.want:
+            center = _unplane(plane, c1, c2, e3) + list(abc)
+            cm = self.machine(center)
+            first, second, _ = PLANE_AXES[plane]
+            self._c(vc.ArcFeed(
+                self.src, axes=self.machine(end), plane=PLANE_AXES[plane],
+                center=(cm[first], cm[second]), clockwise=rotation < 0,
+                turns=abs(rotation) - 1, feed=feed))
+
+    def dwell(self, seconds: float) -> None:
+        if self.trace:
+            self._p("DWELL(%.4f)" % seconds)
+        if self.want:
+            self._c(vc.Dwell(self.src, seconds=seconds))
+
+    # -- spindle, coolant ------------------------------------------------------------------
+
+    def _spindle(self) -> None:
+        if self.want:
+            self._c(vc.Spindle(self.src, spindle=1, speed=self.speed, direction=self.direction))
+
+    def set_spindle_speed(self, speed: float) -> None:
+        if self.trace:
+            self._p("SET_SPINDLE_SPEED(0, %.4f)" % speed)
+        self.speed = speed
+        self._spindle()
+
+    def spindle(self, direction: str) -> None:
+        if self.trace:
+            self._p({"cw": "START_SPINDLE_CLOCKWISE(0)", "ccw": "START_SPINDLE_COUNTERCLOCKWISE(0)",
+                     "stop": "STOP_SPINDLE_TURNING(0)"}[direction])
+        self.direction = direction
+        self._spindle()
+
+    def set_spindle_mode(self) -> None:
+        if self.trace:
+            self._p("SET_SPINDLE_MODE(0 0.0000)")
+
+    def coolant(self, mist: bool | None = None, flood: bool | None = None) -> None:
+        if mist is not None:
+            if self.trace:
+                self._p("MIST_ON()" if mist else "MIST_OFF()")
+            self.mist = mist
+        if flood is not None:
+            if self.trace:
+                self._p("FLOOD_ON()" if flood else "FLOOD_OFF()")
+            self.flood = flood
+        if self.want:
+            mode = ("mist+flood" if self.flood else "mist") if self.mist else (
+                "flood" if self.flood else "off")
+            self._c(vc.Coolant(self.src, mode=mode))
+
+    def overrides(self, enable: bool) -> None:
+        if self.trace:
+            if enable:
+                self._p("ENABLE_FEED_OVERRIDE()")
+                self._p("ENABLE_SPEED_OVERRIDE(0)")
+            else:
+                self._p("DISABLE_FEED_OVERRIDE()")
+                self._p("DISABLE_SPEED_OVERRIDE(0)")
+
+    # -- tools ----------------------------------------------------------------------------
+
+    def select_tool(self, tool: int) -> None:
+        if self.trace:
+            self._p("SELECT_TOOL(%d)" % tool)
+
+    def change_tool(self, index: int, tool: int) -> None:
+        if self.trace:
+            self._p("CHANGE_TOOL(%d)" % index)
+        if self.want:
+            self._c(vc.ToolChange(self.src, tool=str(tool), number=tool))
+
+    def change_tool_number(self, index: int, tool: int) -> None:
+        if self.trace:
+            self._p("CHANGE_TOOL_NUMBER(%d)" % index)
+        if self.want:
+            self._c(vc.ToolChange(self.src, tool=str(tool), number=tool))
+
+    def use_tool_length_offset(self, v, h: int) -> None:
+        if self.trace:
+            self._p("USE_TOOL_LENGTH_OFFSET(%.4f %.4f %.4f, %.4f %.4f %.4f, %.4f %.4f %.4f)"
+                    % (v[0], v[1], v[2], v[3], v[4], v[5], 0.0, 0.0, 0.0))
+        if self.want:
+            self._c(vc.ToolOffset(self.src, offset=h))
+
+    def set_tool_table_entry(self, index: int, tool) -> None:
+        if self.trace:
+            o = tool.offset
+            self._p("SET_TOOL_TABLE_ENTRY(%d, %d, %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f %.4f, "
+                    "%.4f, %.4f, %d)" % (index, tool.number, *o[:9], tool.frontangle,
+                                         tool.backangle, tool.orientation))
+
+    # -- program flow ------------------------------------------------------------------------
+
+    def program_stop(self, optional: bool) -> None:
+        if self.trace:
+            self._p("OPTIONAL_PROGRAM_STOP()" if optional else "PROGRAM_STOP()")
+        if self.want:
+            self._c(vc.Pause(self.src, optional=optional))
+
+    def program_end(self, code: str) -> None:
+        if self.trace:
+            self._p("PROGRAM_END()")
+        if self.want:
+            self._c(vc.ProgramEnd(self.src, code=code))
+
+    def finish(self) -> None:
+        if self.trace:
+            self._p("FINISH()")
+        if self.want:
+            self._c(vc.ProgramEnd(self.src, code="%"))
+
+
+def _unplane(plane: int, first: float, second: float, normal: float) -> list[float]:
+    """(first, second, normal) of the arc plane -> [x, y, z]."""
+    if plane == 170:
+        return [first, second, normal]
+    if plane == 180:  # first Z, second X, normal Y
+        return [second, normal, first]
+    return [normal, first, second]  # G19: first Y, second Z, normal X

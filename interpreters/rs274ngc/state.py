@@ -1,0 +1,185 @@
+"""The interpreter's model of the machine: settings, parameters and the tool table.
+
+Units follow LinuxCNC: positions and offsets the interpreter keeps are in *program* units
+(mm after G21, inch after G20); numbered parameters holding offsets and the tool table are in
+*user* units, which for LinuxCNC's standalone ``rs274`` (its simulated machine) are inches.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from interpreters.rs274ngc.diag import NgcError
+
+MM_PER_INCH = 25.4
+NUM_PARAMETERS = 5602  # #1 .. #5601
+#: The simulated machine of ``rs274`` works in inches: parameters and tool table use them.
+USER_UNITS_PER_MM = 1.0 / MM_PER_INCH
+
+
+
+@dataclass
+class Tool:
+    """One tool table entry (user units: inch)."""
+
+    number: int
+    pocket: int
+    offset: list[float] = field(default_factory=lambda: [0.0] * 9)  # x y z a b c u v w
+    diameter: float = 0.0
+    frontangle: float = 0.0
+    backangle: float = 0.0
+    orientation: int = 0
+
+
+class ToolTable:
+    """Tools by number, in the order of the table file (that order is CHANGE_TOOL's index).
+
+    Entry 0 is the spindle: a copy of the tool loaded by the last tool change (M6). As in
+    LinuxCNC's standalone interpreter, M61 changes the tool number but not that copy.
+    """
+
+    def __init__(self, tools: list[Tool]):
+        self.tools = tools
+        self.spindle = Tool(0, 0)
+
+    def load(self, index: int) -> None:
+        """CHANGE_TOOL(index): copy the entry into the spindle (index 0 leaves it)."""
+        if index > 0:
+            t = self.tools[index - 1]
+            self.spindle = Tool(t.number, t.pocket, list(t.offset), t.diameter,
+                                t.frontangle, t.backangle, t.orientation)
+
+    def index(self, number: int) -> int | None:
+        """Index of tool ``number`` (0 for T0), None when it is not in the table."""
+        if number == 0:
+            return 0
+        for i, t in enumerate(self.tools, start=1):
+            if t.number == number:
+                return i
+        return None
+
+    def entry(self, index: int) -> Tool:
+        if index == 0:
+            return self.spindle
+        return self.tools[index - 1]
+
+
+#: ``rs274`` without ``-t`` knows three tools (LinuxCNC 2.9 standalone default table).
+DEFAULT_TOOLS = (
+    Tool(1, 1, [0.0, 0.0, 0.511, 0, 0, 0, 0, 0, 0], 0.125),
+    Tool(2, 2, [0.0, 0.0, 0.1, 0, 0, 0, 0, 0, 0], 0.0625),
+    Tool(3, 3, [0.0, 0.0, 1.273, 0, 0, 0, 0, 0, 0], 0.201),
+)
+
+
+def default_tool_table() -> ToolTable:
+    return ToolTable([Tool(t.number, t.pocket, list(t.offset), t.diameter) for t in DEFAULT_TOOLS])
+
+
+def read_tool_table(path: str | Path) -> ToolTable:
+    """A LinuxCNC tool table (``T1 P1 Z0.5 D0.25 ;comment``), values in inches."""
+    try:
+        text = Path(path).read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise NgcError("unreadable", path=str(path), reason=exc.strerror or str(exc)) from None
+    tools: list[Tool] = []
+    for raw in text.splitlines():
+        body = raw.split(";", 1)[0].strip()
+        if not body:
+            continue
+        number = pocket = None
+        t = Tool(-1, -1)
+        for tok in body.split():
+            key, val = tok[0].upper(), tok[1:]
+            try:
+                if key == "T":
+                    number = int(val)
+                elif key == "P":
+                    pocket = int(val)
+                elif key in "XYZABCUVW":
+                    t.offset["XYZABCUVW".index(key)] = float(val)
+                elif key == "D":
+                    t.diameter = float(val)
+                elif key == "I":
+                    t.frontangle = float(val)
+                elif key == "J":
+                    t.backangle = float(val)
+                elif key == "Q":
+                    t.orientation = int(val)
+            except ValueError:
+                raise NgcError("tool_table", text=raw) from None
+        if number is None or pocket is None:
+            raise NgcError("tool_table", text=raw)
+        t.number, t.pocket = number, pocket
+        tools.append(t)
+    return ToolTable(tools)
+
+
+class Settings:
+    """Modal state (LinuxCNC ``setup_struct``), positions in program units."""
+
+    def __init__(self) -> None:
+        # current position in the active coordinate system; a b c in degrees
+        self.pos = [0.0] * 6
+        self.origin = [0.0] * 6  # active G54..G59.3 offset
+        self.origin_index = 1
+        self.axis_offset = [0.0] * 6  # G92
+        self.rotation = 0.0  # XY rotation of the active system, degrees
+        self.tool_offset = [0.0] * 6
+        self.metric = True
+        self.plane = 170
+        self.incremental = False
+        self.ijk_absolute = False
+        self.feed_mode = 0  # 0 per minute, 1 inverse time, 2 per revolution
+        self.feed = 0.0
+        self.speed = 0.0
+        self.spindle = "stop"
+        self.motion = 800
+        self.retract_r = True
+        self.cycle = {"r": 0.0, "cc": 0.0, "p": 0.0, "q": 0.0, "l": 1}
+        self.cycle_il: float | None = None
+        self.mist = False
+        self.flood = False
+        self.feed_override = True
+        self.speed_override = True
+        self.control = "continuous"
+        self.tolerance = 0.0
+        self.naivecam = 0.0
+        self.current_pocket = 0  # index in the tool table of the loaded tool
+        self.selected_pocket = -1
+        self.selected_tool = -1
+        self.toolchange_flag = False
+        self.offset_h = 0
+
+    @property
+    def to_program(self) -> float:
+        """Factor from user units (inch) to program units."""
+        return MM_PER_INCH if self.metric else 1.0
+
+
+class Params:
+    """Numbered parameters and the named ones (locals per call level, globals ``#<_x>``)."""
+
+    def __init__(self) -> None:
+        self.num = [0.0] * NUM_PARAMETERS
+        self.num[5220] = 1.0
+        self.num[5599] = 1.0
+        self.globals: dict[str, float] = {}
+        self.locals: list[dict[str, float]] = [{}]
+
+    def store_named(self, name: str, value: float) -> None:
+        if name.startswith("_"):
+            self.globals[name] = value
+        else:
+            self.locals[-1][name] = value
+
+
+def rotate(x: float, y: float, degrees: float) -> tuple[float, float]:
+    """Rotate (x, y) about the origin by ``degrees`` (LinuxCNC Interp::rotate)."""
+    if degrees == 0.0:
+        return x, y
+    t = degrees * math.pi / 180.0
+    c, s = math.cos(t), math.sin(t)
+    return x * c - y * s, x * s + y * c
