@@ -216,10 +216,70 @@ def _nc(it: Interpreter, program: b.Program, blk: b.Block, src: SourceRef) -> Ca
 
     steps = [_step(it, item) for item in items]
     machine = it.machine
+    general = _general_nc(it, blk, src, steps, items, cond, target, nxt)
+    simple = all(
+        (isinstance(x, b.Word) and x.kind in ("axis", "feed"))
+        or (isinstance(x, b.GCode) and x.code.name in ("G0", "G1"))
+        for x in items
+    ) and any(isinstance(x, b.Word) and x.kind == "axis" for x in items)
+    if not simple or cond is not None:
+        return general
+    axis_fs = [(x, compile_expr(x.expr, env)) for x in items if isinstance(x, b.Word) and x.kind == "axis"]
+    feed_f = next((compile_expr(x.expr, env) for x in items if isinstance(x, b.Word) and x.kind == "feed"), None)
+    feed_col = next((x.col for x in items if isinstance(x, b.Word) and x.kind == "feed"), 1)
+    code = next((x.code.name for x in items if isinstance(x, b.GCode)), None)
+
+    def straight_block():
+        if machine.inch or (code is None and machine.motion not in ("G0", "G1")):
+            return general()
+        vals = []
+        for word, f in axis_fs:
+            try:
+                value = f()
+            except EvalError as exc:
+                raise ProgramError(exc.kind, exc.message, src.at(word.col)) from None
+            vals.append((word, value))
+        if feed_f is not None:
+            try:
+                feed = feed_f()
+            except EvalError as exc:
+                raise ProgramError(exc.kind, exc.message, src.at(feed_col)) from None
+            if feed.__class__ not in (float, int) or feed < 0:
+                return general()
+            machine.feed = float(feed)
+        if code is not None:
+            machine.motion = code
+        if not machine.straight(vals, src):
+            machine.general_move(vals, src)
+        return target() if target is not None else nxt
+
+    return straight_block
+
+
+def _general_nc(it, blk, src, steps, items, cond, target, nxt):
+    machine = it.machine
     out = it.out
+
+    lists = [name for name, kinds in _LISTS.items() if any(_item_kind(x) in kinds for x in items)]
+    need_gcodes, need_axes, need_speeds, need_ms, need_cycles, need_interp, need_frame = (
+        n in lists for n in ("gcodes", "axes", "speeds", "ms", "cycles", "interp", "frame_values"))
 
     def nc():
         v = Values()
+        if need_gcodes:
+            v.gcodes = []
+        if need_axes:
+            v.axes = []
+        if need_speeds:
+            v.speeds = []
+        if need_ms:
+            v.ms = []
+        if need_cycles:
+            v.cycles = []
+        if need_interp:
+            v.interp = {}
+        if need_frame:
+            v.frame_values = {}
         for step, col in steps:
             try:
                 step(v)
@@ -253,6 +313,32 @@ def _nc(it: Interpreter, program: b.Program, blk: b.Block, src: SourceRef) -> Ca
         return nxt
 
     return nc
+
+
+#: which list of Values each kind of item appends to
+_LISTS = {
+    "gcodes": {"gcode"},
+    "axes": {"axis"},
+    "speeds": {"speed"},
+    "ms": {"m"},
+    "cycles": {"cycle", "machine_gcode", "aux", "spos", "builtin"},
+    "interp": {"interp", "cr", "turn"},
+    "frame_values": {"frame"},
+}
+
+
+def _item_kind(item) -> str:
+    if isinstance(item, b.Word):
+        return item.kind
+    if isinstance(item, b.GCode):
+        return "machine_gcode" if item.machine else "gcode"
+    if isinstance(item, b.FrameCmd):
+        return "frame"
+    if isinstance(item, b.Call):
+        return "cycle" if item.cycle else "call"
+    if isinstance(item, b.Builtin):
+        return "builtin"
+    return "other"
 
 
 def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
@@ -387,6 +473,6 @@ def _ref_target(node) -> b.Target | None:
 
 
 def _number(v, name: str):
-    if isinstance(v, str):
+    if v.__class__ is str:
         raise EvalError("type_error", f"{name} needs a number, not the string {v!r}")
     return v

@@ -16,7 +16,6 @@ Word values were evaluated left to right before this (assignments take effect in
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 from interpreters.sinumerik.blocks import FrameCmd, Word
 from interpreters.sinumerik.expr import EvalError
@@ -42,28 +41,24 @@ FEED_MODES = {
 INCH = 25.4
 
 
-@dataclass(slots=True)
 class Values:
-    """Everything one block programmed, values already evaluated."""
+    """Everything one block programmed, values already evaluated.
 
-    gcodes: list = field(default_factory=list)  # (col, Code)
-    machine_codes: list = field(default_factory=list)
-    axes: list = field(default_factory=list)  # (Word, value)
-    interp: dict = field(default_factory=dict)  # name -> (value, mode)
-    feed: float | None = None
-    speeds: list = field(default_factory=list)  # (spindle or None, value)
-    ms: list = field(default_factory=list)  # (spindle or None, value, col)
-    tool: object = None
-    edge: int | None = None
-    frame: FrameCmd | None = None
-    frame_values: dict = field(default_factory=dict)
-    rpl: float | None = None
-    setms: int | None = None
-    msg: str | None = None
-    cycles: list = field(default_factory=list)  # (name, args)
-    repeat: int | None = None
-    call: tuple | None = None  # (name, [(value, by-reference target)], col)
-    end: str | None = None  # "RET"
+    List fields start as the shared empty tuple; a block that has such words gets a fresh list
+    (see ``compile._nc``), so a plain motion block allocates only what it uses.
+    """
+
+    __slots__ = ("gcodes", "axes", "interp", "feed", "speeds", "ms", "tool", "edge", "frame",
+                 "frame_values", "rpl", "setms", "msg", "cycles", "repeat", "call", "end")
+
+    def __init__(self) -> None:
+        self.gcodes = self.axes = self.speeds = self.ms = self.cycles = ()  # type: ignore[assignment]
+        self.interp = self.frame_values = _EMPTY
+        self.feed = self.tool = self.edge = self.frame = self.rpl = None
+        self.setms = self.msg = self.repeat = self.call = self.end = None
+
+
+_EMPTY: dict = {}
 
 
 class Machine:
@@ -123,7 +118,7 @@ class Machine:
         for k, v in state.items():
             setattr(self, k, v)
         self.frames.settable, self.frames.trans, self.frames.rot = frames
-        self.frames.rotated = self.frames.rot != ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+        self.frames.refresh()
         self.emit_frame(src)
         self.out.append(canon.PlaneSelect(src, plane=PLANES[self.plane]))
         self.out.append(canon.FeedMode(src, mode=self.feed_mode))
@@ -307,6 +302,82 @@ class Machine:
 
     # ------------------------------------------------------------------------------------
     def move(self, v: Values, src: SourceRef, suppress: bool) -> None:
+        """Emit the block's motion (v.axes holds (Word, value) in textual order)."""
+        new = None
+        if not (suppress or self.inch or self.diameter or self.frames.rotated):
+            new = self._plain_targets(v.axes)
+        if new is None:
+            new = self._targets(v, src, suppress)
+        motion = self.motion
+        if motion == "G1":
+            if self.feed <= 0:
+                raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
+            self.out.append(canon.LinearFeed(src, axes=new, feed=self.feed))
+        elif motion == "G0":
+            self.out.append(canon.Traverse(src, axes=new))
+        else:
+            self.arc(v, src, new, suppress)
+        self.pos = new
+
+    def straight(self, words: list, src: SourceRef) -> bool:
+        """Fast path for blocks of G0/G1 axis words only; False when it does not apply."""
+        if self.inch or self.diameter or self.frames.rotated:
+            return False
+        new = self._plain_targets(words)
+        if new is None:
+            return False
+        if self.motion == "G1":
+            if self.feed <= 0:
+                raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
+            self.out.append(canon.LinearFeed(src, axes=new, feed=self.feed))
+        else:
+            self.out.append(canon.Traverse(src, axes=new))
+        self.pos = new
+        return True
+
+    def general_move(self, words: list, src: SourceRef) -> None:
+        v = Values()
+        v.axes = words
+        self.move(v, src, False)
+
+    def _plain_targets(self, words: list) -> dict | None:
+        """Targets when no rotation, diameter or inch mode is active: value + offset.
+        None when a word needs the general path."""
+        pos = self.pos
+        new = pos.copy()
+        off = self.frames.off
+        specs = self.specs
+        absolute = self.absolute
+        for word, value in words:
+            cls = value.__class__
+            if cls is not float and cls is not int:
+                return None
+            name = word.name
+            spec = specs.get(name)
+            if spec is None:
+                return None
+            mode = word.mode
+            if spec.modulo is None:
+                if mode is None:
+                    new[name] = value + off.get(name, 0.0) if absolute else pos[name] + value
+                elif mode == "AC":
+                    new[name] = value + off.get(name, 0.0)
+                elif mode == "IC":
+                    new[name] = pos[name] + value
+                else:
+                    return None  # ACP/ACN/DC on a non-modulo axis: the general path reports it
+                continue
+            if mode is None:
+                mode = "AC" if absolute else "IC"
+            if mode == "IC":
+                new[name] = pos[name] + value
+                continue
+            if mode == "AC" and spec.g90_mode == "dc":
+                mode = "DC"
+            new[name] = modulo_target(pos[name], value + off.get(name, 0.0), mode, spec.modulo)
+        return new
+
+    def _targets(self, v: Values, src: SourceRef, suppress: bool) -> dict:
         pos = self.pos
         new = dict(pos)
         g = self.geometry
@@ -362,16 +433,7 @@ class Machine:
             m = p if suppress else frames.to_machine(tuple(p))
             for i, n in enumerate(g):
                 new[n] = m[i]
-        motion = self.motion
-        if motion in ("G2", "G3"):
-            self.arc(v, src, new, suppress)
-        elif motion == "G0":
-            self.out.append(canon.Traverse(src, axes=new))
-        else:
-            if self.feed <= 0:
-                raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
-            self.out.append(canon.LinearFeed(src, axes=new, feed=self.feed))
-        self.pos = new
+        return new
 
     def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool) -> None:
         g = self.geometry

@@ -227,33 +227,45 @@ _REL = tol.compare_relative
 
 
 def num(v: Value) -> float | int:
-    if isinstance(v, str):
+    if v.__class__ is str:
         raise EvalError("type_error", f"a number was expected, got the string {v!r}")
     return v
 
 
 def eq(a: Value, b: Value) -> bool:
+    """Relative equality: |a - b| <= 1e-12 * max(|a|, |b|); strings compare exactly."""
     if a == b:
         return True
-    if isinstance(a, str) or isinstance(b, str):
+    if a.__class__ is str or b.__class__ is str:
         return False
-    return abs(a - b) <= _REL * max(abs(a), abs(b))
+    d = a - b
+    aa = a if a >= 0 else -a
+    bb = b if b >= 0 else -b
+    return (d if d >= 0 else -d) <= _REL * (aa if aa > bb else bb)
 
 
 def _lt(a, b):
-    return num(a) < num(b) and not eq(a, b)
+    if a.__class__ is str or b.__class__ is str:
+        num(a), num(b)
+    return a < b and not eq(a, b)
 
 
 def _gt(a, b):
-    return num(a) > num(b) and not eq(a, b)
+    if a.__class__ is str or b.__class__ is str:
+        num(a), num(b)
+    return a > b and not eq(a, b)
 
 
 def _le(a, b):
-    return num(a) < num(b) or eq(a, b)
+    if a.__class__ is str or b.__class__ is str:
+        num(a), num(b)
+    return a < b or eq(a, b)
 
 
 def _ge(a, b):
-    return num(a) > num(b) or eq(a, b)
+    if a.__class__ is str or b.__class__ is str:
+        num(a), num(b)
+    return a > b or eq(a, b)
 
 
 def _div(a, b):
@@ -471,7 +483,7 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
 
             def get():
                 v = env.vars[name]
-                if isinstance(v, list):
+                if v.__class__ is list:
                     raise EvalError("type_error", f"{name} is an array; give an index")
                 return v
 
@@ -524,8 +536,8 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
 
         def finite_arith():
             x, y = fa(), fb()
-            if x.__class__ is not float or y.__class__ is not float:
-                x, y = num(x), num(y)
+            if x.__class__ is str or y.__class__ is str:
+                num(x), num(y)
             v = arith(x, y)
             if -_HUGE < v < _HUGE:  # false for inf and NaN
                 return v

@@ -65,19 +65,27 @@ class Frames:
         self.trans: dict[str, float] = {}
         self.rot: Matrix = IDENTITY
         self.rotated = False
+        self.off: dict[str, float] = {}
 
     # -- state ---------------------------------------------------------------------------
+    def refresh(self) -> None:
+        """Recompute the per-axis translation cache after any change."""
+        self.off = {a: self.settable.get(a, 0.0) + self.trans.get(a, 0.0)
+                    for a in {*self.settable, *self.trans}}
+        self.rotated = self.rot != IDENTITY
+
     def set_settable(self, offsets: dict[str, float]) -> None:
         self.settable = dict(offsets)
+        self.refresh()
 
     def offset(self, axis: str) -> float:
         """Pure translation of a non-geometry axis (or of a geometry axis without rotation)."""
-        return self.settable.get(axis, 0.0) + self.trans.get(axis, 0.0)
+        return self.off.get(axis, 0.0)
 
     def trans_abs(self, values: dict[str, float]) -> None:
         self.trans = dict(values)
         self.rot = IDENTITY
-        self.rotated = False
+        self.refresh()
 
     def trans_add(self, values: dict[str, float]) -> None:
         g = self.geometry
@@ -89,15 +97,16 @@ class Frames:
         for n, v in values.items():
             if n not in g:
                 self.trans[n] = self.trans.get(n, 0.0) + v
+        self.refresh()
 
     def rot_abs(self, m: Matrix) -> None:
         self.trans = {}
         self.rot = m
-        self.rotated = m != IDENTITY
+        self.refresh()
 
     def rot_add(self, m: Matrix) -> None:
         self.rot = matmul(self.rot, m)
-        self.rotated = self.rot != IDENTITY
+        self.refresh()
 
     def origin(self, axes: list[str]) -> dict[str, float]:
         return {a: self.offset(a) for a in axes}

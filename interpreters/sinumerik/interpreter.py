@@ -272,6 +272,9 @@ class Interpreter:
             def set_var(v):
                 d = env.vars
                 old = d[name]
+                if v.__class__ is old.__class__ and v.__class__ is not list:
+                    d[name] = v
+                    return
                 if isinstance(old, list):
                     raise EvalError("type_error", f"{name} is an array; give an index")
                 d[name] = _like(old, v, name)
