@@ -1,0 +1,63 @@
+"""The move table: rows, provenance, state columns, arc chords within tolerance."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from catalog import TURNMILL
+from nc import ok
+
+from vmach.machine.control import load_control
+from vmach.motion import ARC, FEED, TRAVERSE, build
+
+TURN = load_control(TURNMILL)
+
+
+def test_rows_carry_state_and_source(tmp_path):
+    r = ok(tmp_path, """
+T="GLOD D40" D1
+SETMS(2)
+S2=640 M2=3
+G0 X40 Y0 Z5
+G1 Z-10 F620
+G95 F0.1
+G1 X30
+M30
+""", TURN)
+    t = build(r.commands, TURN)
+    assert t.axes == ("X", "Y", "Z", "C1") and len(t) == 3
+    assert list(t.kind) == [TRAVERSE, FEED, FEED]
+    assert math.isnan(t.feed[0]) and t.feed[1] == 620 and t.feed[2] == 0.1
+    assert list(t.feed_mode) == [0, 0, 1]
+    assert t.tools == ("GLOD D40",) and list(t.tool) == [0, 0, 0] and list(t.offset) == [1, 1, 1]
+    s2 = t.spindles.index(2)
+    assert list(t.speed[:, s2]) == [640, 640, 640] and list(t.direction[:, s2]) == [1, 1, 1]
+    assert list(t.master) == [2, 2, 2]
+    assert list(t.line) == [5, 6, 8]
+    assert t.start[0].tolist() == [a.home for a in TURN.axes]
+    assert np.array_equal(t.start[1:], t.end[:-1])
+    assert t.source(2).line == 8 and t.files == (str(tmp_path / "TEST.MPF"),)
+    with pytest.raises(ValueError):
+        t.end[0, 0] = 1.0  # read-only
+
+
+@pytest.mark.parametrize("chord", [0.01, 0.001])
+def test_arc_chords_stay_within_tolerance(tmp_path, chord):
+    r = ok(tmp_path, "G0 X10 Y0 Z0\nG3 X-10 Y0 I-10 J0 Z-4 TURN=1 F100\nM30\n")
+    from vmach.canon import DEFAULT_CONTROL
+
+    t = build(r.commands, DEFAULT_CONTROL, chord=chord)
+    arc = t.kind == ARC
+    a, b = t.start[arc], t.end[arc]
+    # every chord end lies on the circle, the sagitta of each chord is within the tolerance
+    for p in (a, b):
+        assert np.allclose(np.hypot(p[:, 0], p[:, 1]), 10.0)
+    half = np.hypot(*(b[:, :2] - a[:, :2]).T) / 2
+    sagitta = 10.0 - np.sqrt(100.0 - half**2)
+    assert sagitta.max() <= chord + 1e-12
+    # one and a half turns counter-clockwise, Z falls linearly with the angle
+    ang = np.unwrap(np.arctan2(b[:, 1], b[:, 0]))
+    assert ang[-1] - np.arctan2(a[0, 1], a[0, 0]) == pytest.approx(3 * math.pi)
+    assert np.all(np.diff(b[:, 2]) < 0) and b[-1, 2] == -4
