@@ -101,3 +101,17 @@ def test_console_script_runs_without_traceback(tmp_path):
                        cwd=ROOT, timeout=60)
     assert r.returncode == 1
     assert "error[domain_error]" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_run_on_a_hybrid_adds_drive_values_and_flags_unreachable_poses(tmp_path, capsys):
+    from vmach.machine import load_model
+
+    p = prog(tmp_path, "G0 X0 Y0 Z0 B0 C0\nG1 X10 Y5 Z-5 B30 C45 F100\nG1 Z-500\nM30\n")
+    assert main(["run", p, "--machine", "h5d", "--format", "json"]) == 1
+    cap = capsys.readouterr()
+    rows = [json.loads(x) for x in cap.out.splitlines()]
+    model = load_model("h5d")
+    values, ok = model.drive_values([[10, 5, -5, 30, 45]])
+    assert ok[0] and rows[1]["drives"] == {k: pytest.approx(float(v[0])) for k, v in values.items()}
+    assert set(rows[2]["drives"].values()) == {None}
+    assert f"{p}:3:1: error[unreachable]" in cap.err

@@ -7,7 +7,9 @@ import sys
 from pathlib import Path
 
 import interpreters
-from vmach.canon import RunOptions, format_json, format_text
+import json
+
+from vmach.canon import MOTIONS, RunOptions, RunResult, format_json, format_text
 from vmach.errors import InputError
 from vmach.output import atomic_writer
 from vmach.setup import control_for
@@ -44,12 +46,15 @@ def run(args: argparse.Namespace) -> int:
     if args.max_blocks < 1:
         raise InputError("--max-blocks must be at least 1", kind="usage")
     dialect = interpreters.dialect_for(path, args.dialect)
-    control, _ = control_for(path, args.machine)
+    control, model_path = control_for(path, args.machine)
     options = RunOptions(max_blocks=args.max_blocks)
     if args.format in ("text", "json"):
         result = dialect.run(args.program, control, options)
-        fmt = format_json if args.format == "json" else None
-        lines = (fmt(c) if fmt else format_text(c, i) for i, c in enumerate(result.commands, 1))
+        if args.format == "json":
+            drives = _drive_values(model_path, result)
+            lines = (_json_line(c, drives.get(i)) for i, c in enumerate(result.commands))
+        else:
+            lines = (format_text(c, i) for i, c in enumerate(result.commands, 1))
     else:
         formats = getattr(dialect, "FORMATS", {})
         if args.format not in formats:
@@ -75,3 +80,38 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.write(f.render() + "\n")
     errors = any(f.severity == "error" for f in result.findings)
     return 1 if errors or not result.completed else 0
+
+
+def _json_line(cmd, drives: dict | None) -> str:
+    if drives is None:
+        return format_json(cmd)
+    row = cmd.to_json()
+    row["drives"] = drives
+    return json.dumps(row, ensure_ascii=False)
+
+
+def _drive_values(model_path: Path | None, result: RunResult) -> dict[int, dict]:
+    """Actuator values of every motion's end pose on a machine with parallel drives (the
+    "second post-processor computation" of a hybrid machine); unreachable poses become findings
+    and carry ``null`` drives."""
+    if model_path is None:
+        return {}
+    import numpy as np
+
+    from vmach.machine import load_model, unreachable_findings
+
+    model = load_model(model_path)
+    if not model.spec.parallel:
+        return {}
+    idx = [i for i, c in enumerate(result.commands) if isinstance(c, MOTIONS)]
+    if not idx:
+        return {}
+    home = dict(zip(model.axes, model.home, strict=True))
+    q = np.array([[result.commands[i].axes.get(a, home[a]) for a in model.axes] for i in idx])
+    values, ok = model.drive_values(q)
+    out = {}
+    for row, i in enumerate(idx):
+        out[i] = {d: (float(v[row]) if ok[row] else None) for d, v in values.items()}
+    result.findings.extend(unreachable_findings(
+        ok, sources=[result.commands[i].source for i in idx], move_index=idx))
+    return out
