@@ -1,0 +1,73 @@
+"""``vmach verify PROG``: interpretation, kinematics, cutting, checks, report."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from vmach.errors import InputError
+from vmach.output import atomic_writer
+from vmach.tol import tol
+from vmach.verify import VerifyOptions, verify
+
+HELP = "verify a program on a machine: limits, collisions, stock, profile, cycle time, report"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("program", help="NC program (.mpf/.spf Sinumerik, .ngc RS274/NGC)")
+    p.add_argument("--machine", help="machine model (path or name in models/)")
+    p.add_argument("--tools", help="tool library (TOML)")
+    p.add_argument("--stock", help="stock: cylinder:d=60,l=100 | box:x=..,y=..,z=.. | mesh:part.stl")
+    p.add_argument("--profile", help="profile to check, e.g. P3G:50 (DIN 32711) or P4C:35x30")
+    p.add_argument("--profile-z", help="Z range of the profile check, e.g. -35:-5")
+    p.add_argument("--fit", default="g6", help="ISO 286 fit class of the shaft (default g6)")
+    p.add_argument("--out", help="directory for report.json and the pictures (default: out/<program>)")
+    p.add_argument("--no-images", action="store_true", help="skip the PNG pictures")
+    p.add_argument("--format", choices=("text", "json"), default="text")
+    p.add_argument("--max-blocks", type=int, default=tol.max_blocks)
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.max_blocks < 1:
+        raise InputError("--max-blocks must be at least 1", kind="usage")
+    out = Path(args.out) if args.out else Path("out") / Path(args.program).stem
+    options = VerifyOptions(
+        machine=args.machine, tools=args.tools, stock=args.stock, profile=args.profile,
+        profile_z=args.profile_z, fit=args.fit, out=out, images=not args.no_images,
+        max_blocks=args.max_blocks, quiet=args.quiet or not sys.stderr.isatty(),
+    )
+    report = verify(args.program, options)
+    data = report.to_json()
+    out.mkdir(parents=True, exist_ok=True)
+    with atomic_writer(out / "report.json") as fh:
+        json.dump(data, fh, indent=2, ensure_ascii=False)
+        fh.write("\n")
+    if args.format == "json":
+        json.dump(data, sys.stdout, indent=2, ensure_ascii=False)
+        sys.stdout.write("\n")
+    else:
+        print(summary(report, out))
+    return 1 if report.errors else 0
+
+
+def summary(report, out: Path) -> str:
+    lines = []
+    for f in sorted(report.findings, key=lambda f: (f.severity != "error", f.line or 0)):
+        lines.append(f.render())
+    d = report.to_json()
+    s = d["summary"]
+    lines.append("")
+    lines.append(f"{report.program}: {d['program']['moves']} moves, "
+                 f"{s['errors']} error(s), {s['warnings']} warning(s)")
+    if d["cycle_time_s"] is not None:
+        t = d["cycle_time_s"]
+        lines.append(f"cycle time {int(t // 60)} min {t % 60:04.1f} s")
+    if d["profile"]:
+        p = d["profile"]
+        lines.append(f"profile {p['type']} d1={p['d1']}: max |deviation| {p['max_abs_deviation_mm']:.4f} mm, "
+                     f"band {p['tolerance_mm']}: {'PASS' if p['pass'] else 'FAIL'}")
+    lines.append(f"report: {out / 'report.json'}")
+    return "\n".join(lines)

@@ -1,0 +1,236 @@
+"""``vmach verify``: the whole pipeline for one program, as a function that returns a Report.
+
+    text -> blocks -> interpreter -> canonical commands -> move table -> kinematics
+         -> stock removal / collisions / limits / profile -> findings -> report (JSON, PNG)
+
+Each stage is timed; each stage that fails on bad input raises a VmachError (clear diagnostic,
+no traceback), and a program error stops the pipeline after the interpreter's findings are in.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import interpreters
+from vmach import __version__
+from vmach.canon import RunOptions, RunResult
+from vmach.checks.process import spindle_off_cuts, unknown_tools, zero_feeds
+from vmach.errors import InputError
+from vmach.findings import Finding, sort_key
+from vmach.motion import MoveTable, build
+from vmach.setup import Setup, read_setup, resolve_model
+
+
+@dataclass
+class VerifyOptions:
+    """What the user asked for; None means: from the setup file beside the program."""
+
+    machine: str | None = None
+    tools: str | None = None
+    stock: str | None = None
+    profile: str | None = None
+    profile_z: str | None = None
+    profile_stations: int = 7
+    fit: str = "g6"
+    out: Path | None = None
+    images: bool = True
+    max_blocks: int = 10_000_000
+    quiet: bool = True
+
+
+@dataclass
+class Report:
+    program: str
+    setup: Setup
+    result: RunResult | None = None
+    table: MoveTable | None = None
+    model: Any = None
+    machine_path: Path | None = None
+    tools_path: Path | None = None
+    stock_spec: str | None = None
+    findings: list[Finding] = field(default_factory=list)
+    profile: dict | None = None
+    cycle: dict | None = None
+    images: dict[str, str] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
+    part: Any = None  # final stock mesh (trimesh.Trimesh) when the stock was simulated
+
+    @property
+    def errors(self) -> int:
+        return sum(f.severity == "error" for f in self.findings)
+
+    def to_json(self) -> dict[str, Any]:
+        findings = sorted(self.findings, key=sort_key)
+        res = self.result
+        return {
+            "vmach": __version__,
+            "program": {
+                "path": self.program,
+                "completed": None if res is None else res.completed,
+                "blocks": None if res is None else res.blocks,
+                "moves": None if self.table is None else len(self.table),
+            },
+            "machine": None if self.machine_path is None else {
+                "path": str(self.machine_path),
+                "name": getattr(self.model, "name", self.machine_path.stem),
+                "axes": list(self.table.axes) if self.table is not None else None,
+            },
+            "tools": None if self.tools_path is None else str(self.tools_path),
+            "stock": self.stock_spec,
+            "summary": {
+                "errors": self.errors,
+                "warnings": sum(f.severity == "warning" for f in self.findings),
+                "infos": sum(f.severity == "info" for f in self.findings),
+            },
+            "findings": [_finding_json(f) for f in findings],
+            "profile": self.profile,
+            "cycle_time_s": None if self.cycle is None else self.cycle["total_s"],
+            "cycle_time": self.cycle,
+            "images": dict(self.images),
+            "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
+        }
+
+
+def _finding_json(f: Finding) -> dict[str, Any]:
+    d = f.to_json()
+    d.setdefault("move_index", f.move_index)
+    for k, v in list(d.items()):
+        if isinstance(v, np.generic):
+            d[k] = v.item()
+    return d
+
+
+class _Clock:
+    def __init__(self, report: Report):
+        self.report = report
+
+    def __call__(self, name: str):
+        report = self.report
+
+        class _T:
+            def __enter__(self):
+                self.t = time.perf_counter()
+
+            def __exit__(self, *exc):
+                report.timings[name] = report.timings.get(name, 0.0) + time.perf_counter() - self.t
+                return False
+
+        return _T()
+
+
+def verify(program: str | Path, options: VerifyOptions) -> Report:
+    """Run every stage on ``program``; return the Report (findings, profile, timings ...)."""
+    path = Path(program)
+    if not path.is_file():
+        raise InputError(f"{program}: no such file", kind="unreadable")
+    setup = read_setup(path)
+    report = Report(str(program), setup)
+    clock = _Clock(report)
+    t0 = time.perf_counter()
+
+    with clock("setup"):
+        from vmach.machine import load_model
+
+        report.machine_path = resolve_model(options.machine) if options.machine else setup.machine
+        if report.machine_path is None:
+            raise InputError(f"{program}: which machine? give --machine (or a vmach.toml beside the program)",
+                             kind="usage")
+        model = load_model(report.machine_path)
+        report.model = model
+        control = model.control
+        if setup.zero_offsets:
+            from dataclasses import replace
+
+            merged = {k: dict(v) for k, v in control.zero_offsets.items()}
+            for k, v in setup.zero_offsets.items():
+                merged.setdefault(k, {}).update(v)
+            control = replace(control, zero_offsets=merged)
+        tools_path = Path(options.tools) if options.tools else setup.tools
+        report.tools_path = tools_path
+        library = None
+        if tools_path is not None:
+            from vmach.tooling.library import load_tools
+
+            library = load_tools(tools_path)
+        report.stock_spec = options.stock or setup.stock
+
+    with clock("interpret"):
+        dialect = interpreters.dialect_for(path)
+        result = dialect.run(str(program), control, RunOptions(max_blocks=options.max_blocks))
+        report.result = result
+        report.findings.extend(result.findings)
+
+    with clock("move_table"):
+        table = build(result.commands, control)
+        report.table = table
+
+    with clock("checks"):
+        if library is not None:
+            report.findings.extend(unknown_tools(result.commands, library))
+        report.findings.extend(zero_feeds(table))
+        report.findings.extend(spindle_off_cuts(table, _tool_spindle(model)))
+        report.findings.extend(_limit_findings(model, table))
+
+    report.timings["total"] = time.perf_counter() - t0
+    return report
+
+
+def _tool_spindle(model) -> int | None:
+    raw = getattr(model, "_raw", None) or {}
+    ctl = raw.get("control", {}) if isinstance(raw, dict) else {}
+    ts = ctl.get("tool_spindle")
+    return int(ts) if ts is not None else None
+
+
+def _axis_matrix(model, table: MoveTable, which: np.ndarray) -> np.ndarray:
+    """(n, k_model) axis values in the model's axis order from table columns."""
+    cols = []
+    for i, a in enumerate(model.axes):
+        if a in table.axes:
+            cols.append(which[:, table.axes.index(a)])
+        else:
+            cols.append(np.full(len(which), float(model.home[i])))
+    return np.stack(cols, axis=1) if cols else np.zeros((len(which), 0))
+
+
+def _limit_findings(model, table: MoveTable) -> list[Finding]:
+    from vmach.machine import axis_limit_findings
+
+    if len(table) == 0:
+        return []
+    q = _axis_matrix(model, table, table.end)
+    sources = [table.source(i) for i in range(len(table))]
+    found = axis_limit_findings(model, q, sources=sources, move_index=list(range(len(table))))
+    # a move that leaves an axis where an earlier move put it is not reported again
+    moved = table.start != table.end
+    keep = []
+    for f in found:
+        axis = f.data.get("axis")
+        if f.move_index is not None and axis in table.axes:
+            row = f.move_index
+            if row > 0 and not moved[row, table.axes.index(axis)]:
+                continue
+        keep.append(f)
+    return _first_per_line(keep)
+
+
+def _first_per_line(findings: list[Finding]) -> list[Finding]:
+    """One finding per (kind, file, line, axis): a block in a loop is reported once."""
+    seen: dict[tuple, Finding] = {}
+    counts: dict[tuple, int] = {}
+    for f in findings:
+        key = (f.kind, f.source.path if f.source else None, f.line, f.data.get("axis"))
+        counts[key] = counts.get(key, 0) + 1
+        seen.setdefault(key, f)
+    out = []
+    for key, f in seen.items():
+        if counts[key] > 1:
+            f = Finding(f.kind, f.severity, f.message + f" (and {counts[key] - 1} more times)",
+                        f.source, f.move_index, {**f.data, "occurrences": counts[key]})
+        out.append(f)
+    return out
