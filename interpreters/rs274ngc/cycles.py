@@ -157,8 +157,7 @@ class CycleMixin:
         elif motion == 850:
             move(aa, bb, bottom, False)
             move(aa, bb, r, False)
-            if clear > r:
-                move(aa, bb, clear, True)
+            move(aa, bb, clear, True)
         elif motion == 860:
             if s.spindle not in ("cw", "ccw"):
                 raise NgcError("cycle_spindle_stopped")

@@ -307,8 +307,8 @@ class ExecuteMixin:
         s.origin_index = 1
         num = self.pars.num
         num[5220] = 1.0
-        k = s.to_program
-        s.origin = [num[5221] * k, num[5222] * k, num[5223] * k, num[5224], num[5225], num[5226]]
+        s.origin = [s.u2p(num[5221]), s.u2p(num[5222]), s.u2p(num[5223]),
+                    num[5224], num[5225], num[5226]]
         s.rotation = num[5230]
         pos[0], pos[1] = rotate(pos[0], pos[1], -s.rotation)
         for i in range(6):

@@ -69,8 +69,8 @@ class FlowMixin:
         labels = self.frames[-1].labels
         seen = labels.get(o.name)
         if seen is not None and seen[1] != self.index and seen[0] != "do":
-            raise NgcError("duplicate_label", line=line.number, other=seen[1] + 1,
-                           text=line.raw.strip())
+            raise NgcError("duplicate_label" if kind == "if" else "duplicate_loop_label",
+                           line=line.number, other=seen[1] + 1, text=line.raw.strip())
         labels[o.name] = (kind, self.index)
 
     def skip_to(self, name: str, kinds: tuple[str, ...], nested_sub: bool = False):

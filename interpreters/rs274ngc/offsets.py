@@ -80,8 +80,7 @@ class OffsetMixin:
             index = s.current_pocket if s.toolchange_flag else 0
             h = self.tools.entry(index).number
         t = self.tools.entry(index) if code != 490 else Tool(0, 0)
-        k = s.to_program
-        new = [t.offset[0] * k, t.offset[1] * k, t.offset[2] * k,
+        new = [s.u2p(t.offset[0]), s.u2p(t.offset[1]), s.u2p(t.offset[2]),
                t.offset[3], t.offset[4], t.offset[5]]
         self.out.use_tool_length_offset(new, h if h > 0 else 0)
         old = s.tool_offset
@@ -99,7 +98,6 @@ class OffsetMixin:
         """find_current_in_system: the current point seen from another coordinate system."""
         s = self.s
         p = self.pars.num
-        k = s.to_program
         cur = [s.pos[i] + s.axis_offset[i] for i in range(6)]
         cur[0], cur[1] = rotate(cur[0], cur[1], s.rotation)
         for i in range(6):
@@ -108,11 +106,11 @@ class OffsetMixin:
                 cur[i] += s.tool_offset[i]
         base = 5201 + system * 20
         for i in range(6):
-            cur[i] -= p[base + i] * (k if i < 3 else 1.0)
+            cur[i] -= s.u2p(p[base + i]) if i < 3 else p[base + i]
         cur[0], cur[1] = rotate(cur[0], cur[1], -p[5210 + system * 20])
         if p[5210]:
             for i in range(6):
-                cur[i] -= p[5211 + i] * (k if i < 3 else 1.0)
+                cur[i] -= s.u2p(p[5211 + i]) if i < 3 else p[5211 + i]
         return cur
 
     def convert_coordinate_system(self, code: int) -> None:
@@ -126,9 +124,8 @@ class OffsetMixin:
         s.origin_index = origin
         p = self.pars.num
         p[5220] = float(origin)
-        k = s.to_program
         base = 5201 + origin * 20
-        s.origin = [p[base] * k, p[base + 1] * k, p[base + 2] * k,
+        s.origin = [s.u2p(p[base]), s.u2p(p[base + 1]), s.u2p(p[base + 2]),
                     p[base + 3], p[base + 4], p[base + 5]]
         s.rotation = p[5210 + origin * 20]
         out.set_g5x_offset(origin, s.origin)
@@ -155,7 +152,6 @@ class OffsetMixin:
         w = block.words
         s = self.s
         p = self.pars.num
-        k = s.to_program
         if "i" in w or "j" in w:
             raise NgcError("g10_ij_with_l2")
         system = int(block.p + 0.0001)
@@ -174,34 +170,35 @@ class OffsetMixin:
         if l20:
             oldx, oldy = rotate(cur[0], cur[1], r)
             x, y = rotate(w.get("x", cur[0]), w.get("y", cur[1]), r)
-            x = oldx + p[base + 1] * k - x
-            y = oldy + p[base + 2] * k - y
-            p[base + 1] = x / k
-            p[base + 2] = y / k
+            x = oldx + s.u2p(p[base + 1]) - x
+            y = oldy + s.u2p(p[base + 2]) - y
+            p[base + 1] = s.p2u(x)
+            p[base + 2] = s.p2u(y)
             if system == s.origin_index:
                 s.pos[0], s.pos[1] = rotate(s.pos[0], s.pos[1], s.rotation)
                 s.rotation = 0.0
         else:
             if "x" in w:
                 x = w["x"]
-                p[base + 1] = x / k
+                p[base + 1] = s.p2u(x)
             else:
-                x = p[base + 1] * k
+                x = s.u2p(p[base + 1])
             if "y" in w:
                 y = w["y"]
-                p[base + 2] = y / k
+                p[base + 2] = s.p2u(y)
             else:
-                y = p[base + 2] * k
+                y = s.u2p(p[base + 2])
         rest = []
         for i, letter in ((2, "z"), (3, "a"), (4, "b"), (5, "c")):
-            kk = k if i < 3 else 1.0
+            to_p = s.u2p if i < 3 else float
+            to_u = s.p2u if i < 3 else float
             if letter in w:
                 v = w[letter]
                 if l20:
-                    v = cur[i] + p[base + 1 + i] * kk - v
-                p[base + 1 + i] = v / kk
+                    v = cur[i] + to_p(p[base + 1 + i]) - v
+                p[base + 1 + i] = to_u(v)
             else:
-                v = p[base + 1 + i] * kk
+                v = to_p(p[base + 1 + i])
             rest.append(v)
         new = [x, y, *rest]
         if system == s.origin_index:
@@ -221,7 +218,6 @@ class OffsetMixin:
         """G10 L1 (direct) / L10 (from the current position) / L11 (G59.3): tool table."""
         w = block.words
         s = self.s
-        k = s.to_program
         p = block.p
         tool = int(p + 0.5)
         index = self.tool_index(tool)
@@ -231,33 +227,33 @@ class OffsetMixin:
         if block.l == 1:
             for i, letter in enumerate("xyzabc"):
                 if letter in w:
-                    t.offset[i] = w[letter] / k if i < 3 else w[letter]
+                    t.offset[i] = s.p2u(w[letter]) if i < 3 else w[letter]
         else:
             system = 9 if block.l == 11 else s.origin_index
             cur = self.current_in_system(system, with_tlo=True)
             num = self.pars.num
             if block.l == 11 and num[5210]:
                 for i in range(6):
-                    cur[i] += num[5211 + i] * (k if i < 3 else 1.0)
+                    cur[i] += s.u2p(num[5211 + i]) if i < 3 else num[5211 + i]
             rot = num[5210 + system * 20]
             if "x" in w and "y" in w:
                 tx, ty = rotate(cur[0] - w["x"], cur[1] - w["y"], rot)
-                t.offset[0], t.offset[1] = tx / k, ty / k
+                t.offset[0], t.offset[1] = s.p2u(tx), s.p2u(ty)
             elif "x" in w or "y" in w:
-                ox, oy = rotate(t.offset[0] * k, t.offset[1] * k, -rot)
+                ox, oy = rotate(s.u2p(t.offset[0]), s.u2p(t.offset[1]), -rot)
                 if "x" in w:
                     ox, oy = rotate(0.0, oy, rot)
                     tx, ty = rotate(cur[0] - w["x"], 0.0, rot)
                 else:
                     ox, oy = rotate(ox, 0.0, rot)
                     tx, ty = rotate(0.0, cur[1] - w["y"], rot)
-                t.offset[0], t.offset[1] = (tx + ox) / k, (ty + oy) / k
+                t.offset[0], t.offset[1] = s.p2u(tx + ox), s.p2u(ty + oy)
             for i, letter in ((2, "z"), (3, "a"), (4, "b"), (5, "c")):
                 if letter in w:
                     v = cur[i] - w[letter]
-                    t.offset[i] = v / k if i < 3 else v
+                    t.offset[i] = s.p2u(v) if i < 3 else v
         if "r" in w:
-            t.diameter = w["r"] / k * 2.0
+            t.diameter = s.p2u(w["r"]) * 2.0
         if "i" in w:
             t.frontangle = w["i"]
         if "j" in w:
@@ -297,8 +293,8 @@ class OffsetMixin:
         s.pos = list(end)
         base = 5161 if code == 280 else 5181
         p = self.pars.num
-        k = s.to_program
-        home = self.find_relative([p[base + i] * (k if i < 3 else 1.0) for i in range(6)])
+        home = self.find_relative([s.u2p(p[base + i]) if i < 3 else p[base + i]
+                                   for i in range(6)])
         w = block.words
         if block.has_axis():
             for i, letter in enumerate("xyzabc"):
@@ -311,7 +307,6 @@ class OffsetMixin:
 
     def convert_savehome(self, code: int) -> None:
         s = self.s
-        k = s.to_program
         v = [s.pos[i] + s.axis_offset[i] for i in range(6)]
         v[0], v[1] = rotate(v[0], v[1], s.rotation)
         for i in range(6):
@@ -319,12 +314,11 @@ class OffsetMixin:
         base = 5161 if code == 281 else 5181
         p = self.pars.num
         for i in range(6):
-            p[base + i] = v[i] / k if i < 3 else v[i]
+            p[base + i] = s.p2u(v[i]) if i < 3 else v[i]
 
     def convert_axis_offsets(self, code: int, block: blk.Block) -> None:
         s = self.s
         p = self.pars.num
-        k = s.to_program
         w = block.words
         pos = s.pos
         off = s.axis_offset
@@ -341,7 +335,7 @@ class OffsetMixin:
                     pos[i] = w[letter]
             self.out.set_g92_offset(off)
             for i in range(6):
-                p[5211 + i] = off[i] / k if i < 3 else off[i]
+                p[5211 + i] = s.p2u(off[i]) if i < 3 else off[i]
         elif code in (921, 922):
             p[5210] = 0.0
             for i in range(6):
@@ -353,7 +347,7 @@ class OffsetMixin:
                     p[5211 + i] = 0.0
         else:  # G92.3
             p[5210] = 1.0
-            new = [p[5211 + i] * (k if i < 3 else 1.0) for i in range(6)]
+            new = [s.u2p(p[5211 + i]) if i < 3 else p[5211 + i] for i in range(6)]
             for i in range(6):
                 pos[i] += off[i] - new[i]
             s.axis_offset = new

@@ -15,8 +15,9 @@ from interpreters.rs274ngc.diag import NgcError
 
 MM_PER_INCH = 25.4
 NUM_PARAMETERS = 5602  # #1 .. #5601
-#: The simulated machine of ``rs274`` works in inches: parameters and tool table use them.
-USER_UNITS_PER_MM = 1.0 / MM_PER_INCH
+#: The simulated machine of ``rs274`` works in inches (saicanon GET_EXTERNAL_LENGTH_UNITS):
+#: parameters holding lengths and the tool table use them.
+EXTERNAL_LENGTH_UNITS = 0.03937007874016
 
 
 
@@ -153,10 +154,15 @@ class Settings:
         self.toolchange_flag = False
         self.offset_h = 0
 
-    @property
-    def to_program(self) -> float:
-        """Factor from user units (inch) to program units."""
-        return MM_PER_INCH if self.metric else 1.0
+    def u2p(self, u: float) -> float:
+        """USER_TO_PROGRAM_LEN: user units (rs274: inch) to program units, as LinuxCNC
+        computes it (through GET_EXTERNAL_LENGTH_UNITS, so the floats round the same)."""
+        mm = u / EXTERNAL_LENGTH_UNITS
+        return mm if self.metric else mm / MM_PER_INCH
+
+    def p2u(self, p: float) -> float:
+        """PROGRAM_TO_USER_LEN: program units to user units."""
+        return (p if self.metric else p * MM_PER_INCH) * EXTERNAL_LENGTH_UNITS
 
 
 class Params:
@@ -176,10 +182,15 @@ class Params:
             self.locals[-1][name] = value
 
 
+_D2R = math.pi / 180.0
+
+
 def rotate(x: float, y: float, degrees: float) -> tuple[float, float]:
-    """Rotate (x, y) about the origin by ``degrees`` (LinuxCNC Interp::rotate)."""
-    if degrees == 0.0:
-        return x, y
-    t = degrees * math.pi / 180.0
+    """Rotate (x, y) about the origin by ``degrees`` (LinuxCNC Interp::rotate).
+
+    Computed even for 0 degrees, as LinuxCNC does: ``-0.0`` may become ``0.0`` on the way,
+    which shows in the trace as ``0.0000`` instead of ``-0.0000``.
+    """
+    t = degrees * _D2R
     c, s = math.cos(t), math.sin(t)
     return x * c - y * s, x * s + y * c
