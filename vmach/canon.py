@@ -276,6 +276,25 @@ class FeedMode(Command):
 
 
 @dataclass(frozen=True, slots=True)
+class PathMode(Command):
+    """How motion blocks join: ``"exact"`` (exact stop, G60: the axes stop at every block end)
+    or ``"continuous"`` (continuous path, G64 and the rounding modes G641...: the path speed is
+    only lowered at corners).
+
+    Emitted when the mode changes. Before the first PathMode a consumer assumes
+    ``"continuous"`` (G64, the interpreters' start-up state). A block-wise exact stop (G9 on
+    Sinumerik) under continuous mode is emitted as ``"exact"`` before that block's motion and
+    ``"continuous"`` after it.
+    """
+
+    mode: str = "continuous"
+    kind: ClassVar[str] = "path_mode"
+
+    def fields(self) -> dict[str, Any]:
+        return {"mode": self.mode}
+
+
+@dataclass(frozen=True, slots=True)
 class PlaneSelect(Command):
     """Working plane as (first, second, normal) axis names: G17 XY, G18 ZX, G19 YZ."""
 

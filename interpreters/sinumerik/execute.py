@@ -39,6 +39,9 @@ FEED_MODES = {
     "G952": "per_rev",
 }
 INCH = 25.4
+# G group 10 → canonical path mode (G641...G645 round corners: continuous path too)
+PATH_MODES = {"G60": "exact", "G64": "continuous", "G641": "continuous", "G642": "continuous",
+              "G643": "continuous", "G644": "continuous", "G645": "continuous"}
 
 
 class Values:
@@ -115,6 +118,8 @@ class Machine:
 
     def restore(self, state: dict, src: SourceRef) -> None:
         frames = state.pop("frames")
+        if PATH_MODES[state["path_mode"]] != PATH_MODES[self.path_mode]:
+            self.out.append(canon.PathMode(src, mode=PATH_MODES[state["path_mode"]]))
         for k, v in state.items():
             setattr(self, k, v)
         self.frames.settable, self.frames.trans, self.frames.rot = frames
@@ -138,6 +143,7 @@ class Machine:
             out.append(canon.Message(src, text=v.msg))
         dwell = False
         suppress = False
+        block_exact = False
         for col, code in v.gcodes:
             name = code.name
             grp = code.group
@@ -175,7 +181,11 @@ class Machine:
             elif grp == 9:
                 suppress = True
             elif grp == 10:
+                if PATH_MODES[name] != PATH_MODES[self.path_mode]:
+                    out.append(canon.PathMode(src, mode=PATH_MODES[name]))
                 self.path_mode = name
+            elif grp == 11:
+                block_exact = True
         if v.setms is not None:
             if v.setms not in self.spindles:
                 if self.control.strict_axes:
@@ -256,7 +266,12 @@ class Machine:
         for name, args in v.cycles:
             out.append(canon.CycleCall(src, name=name, args=tuple(args)))
         if v.axes or (self.motion in ("G2", "G3") and v.interp):
+            g9 = block_exact and PATH_MODES[self.path_mode] != "exact"
+            if g9:  # G9: exact stop at the end of this block only
+                out.append(canon.PathMode(src, mode="exact"))
             self.move(v, src, suppress)
+            if g9:
+                out.append(canon.PathMode(src, mode="continuous"))
         if pause is not None:
             out.append(canon.Pause(src, optional=pause == 1))
         return end

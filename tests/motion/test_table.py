@@ -9,6 +9,7 @@ import pytest
 from catalog import TURNMILL
 from nc import ok
 
+from vmach.canon import DEFAULT_CONTROL
 from vmach.machine.control import load_control
 from vmach.motion import ARC, FEED, TRAVERSE, build
 
@@ -61,3 +62,32 @@ def test_arc_chords_stay_within_tolerance(tmp_path, chord):
     ang = np.unwrap(np.arctan2(b[:, 1], b[:, 0]))
     assert ang[-1] - np.arctan2(a[0, 1], a[0, 0]) == pytest.approx(3 * math.pi)
     assert np.all(np.diff(b[:, 2]) < 0) and b[-1, 2] == -4
+
+
+def test_exact_stop_column_follows_path_mode(tmp_path):
+    """G60 marks every block end, G9 only its own block, arcs only their last chord."""
+    r = ok(tmp_path, """
+G0 X0 Y0 Z0
+G1 X10 F100
+G9 G1 Y10
+G1 X0
+G60
+G1 Y0
+G2 X10 Y0 I5 J0
+G64 G1 X20
+G9 G2 X30 Y0 I5 J0
+G1 X40
+M30
+""")
+    t = build(r.commands, DEFAULT_CONTROL)
+    by_line: dict[int, list[bool]] = {}
+    for line, stop in zip(t.line.tolist(), t.exact_stop.tolist(), strict=True):
+        by_line.setdefault(line, []).append(stop)
+    assert by_line[2] == [False] and by_line[3] == [False]
+    assert by_line[4] == [True] and by_line[5] == [False]
+    assert by_line[7] == [True]
+    assert len(by_line[8]) > 10 and by_line[8][-1] and not any(by_line[8][:-1])
+    assert by_line[9] == [False]
+    assert by_line[10][-1] and not any(by_line[10][:-1])
+    assert by_line[11] == [False]
+    assert t.exact_stop.dtype == bool and not t.exact_stop.flags.writeable

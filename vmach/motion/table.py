@@ -39,6 +39,8 @@ class MoveTable:
     speed : (n, s) float — rev/min of each spindle during the move
     direction : (n, s) int8 — +1 cw, -1 ccw, 0 stopped
     master : (n,) int8 — master spindle number (the one plain S/M3 address)
+    exact_stop : (n,) bool — the axes stop at the end of this row: exact stop (G60, G9) was
+        active for its command and the row is the command's last (an arc's inner chords never)
     command : (n,) int32 — index of the canonical command in ``commands``
     line : (n,) int32 — 1-based source line; file : (n,) int16 — index into ``files``
     """
@@ -56,6 +58,7 @@ class MoveTable:
     speed: np.ndarray
     direction: np.ndarray
     master: np.ndarray
+    exact_stop: np.ndarray
     command: np.ndarray
     line: np.ndarray
     file: np.ndarray
@@ -102,12 +105,14 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
     tool = -1
     offset = 0
     feed_mode = 0
+    exact = False  # canon.PathMode: continuous path until told otherwise
     files: list[str] = []
     file_ix: dict[str, int] = {}
 
-    starts, ends, kinds, feeds, modes, tls, offs, spd, drs, mst, cmds, lines, fls = ([] for _ in range(13))
+    starts, ends, kinds, feeds, modes, tls, offs, spd, drs, mst, cmds, lines, fls, stops = (
+        [] for _ in range(14))
 
-    def add(a, b, k, f, ci, c):
+    def add(a, b, k, f, ci, c, last=True):
         starts.append(a)
         ends.append(b)
         kinds.append(k)
@@ -118,6 +123,7 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
         spd.append(speed.copy())
         drs.append(direction.copy())
         mst.append(master)
+        stops.append(exact and last)
         cmds.append(ci)
         lines.append(c.source.line)
         p = c.source.path
@@ -141,8 +147,9 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
             for a, v in c.axes.items():
                 end[col[a]] = v
             pts = arc_points(pos, end, c, col, chord)
-            for a, b in zip(pts[:-1], pts[1:], strict=True):
-                add(a, b, ARC, c.feed, ci, c)
+            m = len(pts) - 1
+            for j, (a, b) in enumerate(zip(pts[:-1], pts[1:], strict=True)):
+                add(a, b, ARC, c.feed, ci, c, j == m - 1)
             pos = end
         elif isinstance(c, canon.ToolChange):
             if c.tool not in tools:
@@ -159,6 +166,8 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
             master = c.spindle
         elif isinstance(c, canon.FeedMode):
             feed_mode = FEED_MODES.index(c.mode)
+        elif isinstance(c, canon.PathMode):
+            exact = c.mode == "exact"
 
     k, s = len(names), len(spindles)
     n = len(kinds)
@@ -185,6 +194,7 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
         speed=arr(spd, float, (0, s)),
         direction=arr(drs, np.int8, (0, s)),
         master=arr(mst, np.int8, (0,)),
+        exact_stop=arr(stops, bool, (0,)),
         command=arr(cmds, np.int32, (0,)),
         line=arr(lines, np.int32, (0,)),
         file=arr(fls, np.int16, (0,)),
