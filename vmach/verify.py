@@ -176,6 +176,14 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         report.findings.extend(spindle_off_cuts(table, _tool_spindle(model)))
         report.findings.extend(_limit_findings(model, table))
 
+    if library is not None:
+        with clock("collisions"):
+            from vmach.checks.collisions import fixture_collisions, tool_cylinders
+
+            cyl = {i: tool_cylinders(t) for i, name in enumerate(table.tools)
+                   if (t := library.lookup(name)) is not None}
+            report.findings.extend(fixture_collisions(model, table, cyl))
+
     report.timings["total"] = time.perf_counter() - t0
     return report
 
@@ -187,23 +195,12 @@ def _tool_spindle(model) -> int | None:
     return int(ts) if ts is not None else None
 
 
-def _axis_matrix(model, table: MoveTable, which: np.ndarray) -> np.ndarray:
-    """(n, k_model) axis values in the model's axis order from table columns."""
-    cols = []
-    for i, a in enumerate(model.axes):
-        if a in table.axes:
-            cols.append(which[:, table.axes.index(a)])
-        else:
-            cols.append(np.full(len(which), float(model.home[i])))
-    return np.stack(cols, axis=1) if cols else np.zeros((len(which), 0))
-
-
 def _limit_findings(model, table: MoveTable) -> list[Finding]:
     from vmach.machine import axis_limit_findings
 
     if len(table) == 0:
         return []
-    q = _axis_matrix(model, table, table.end)
+    q = table.columns(model.axes, model.home)
     sources = [table.source(i) for i in range(len(table))]
     found = axis_limit_findings(model, q, sources=sources, move_index=list(range(len(table))))
     # a move that leaves an axis where an earlier move put it is not reported again

@@ -75,6 +75,14 @@ class MoveTable:
     def source(self, row: int) -> canon.SourceRef:
         return self.commands[int(self.command[row])].source
 
+    def columns(self, axes: Sequence[str], defaults: Sequence[float], values: np.ndarray | None = None) -> np.ndarray:
+        """(n, len(axes)) axis values in another axis order (a machine model's), taking
+        ``defaults`` for axes the table does not have; ``values`` defaults to ``end``."""
+        v = self.end if values is None else values
+        cols = [v[:, self.axes.index(a)] if a in self.axes else np.full(len(v), float(d))
+                for a, d in zip(axes, defaults, strict=True)]
+        return np.stack(cols, axis=1) if cols else np.zeros((len(v), 0))
+
     def lengths(self) -> np.ndarray:
         """(n,) float — Euclidean length over the linear axes, mm."""
         d = self.end[:, ~self.rotary] - self.start[:, ~self.rotary]
