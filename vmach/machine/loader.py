@@ -17,6 +17,7 @@ Schema (all lengths mm, angles degrees, rates per minute; see ``docs/kinematics.
     rpy = [0, 0, 0]
     limits = [-10, 120]
     max_rate = 3600
+    max_accel = 5000             # mm/s² or °/s² (per second squared)
     formula = "WCBVXYZT"         # ... or a structure formula with [dimensions.<axis|W|T>]
     [work]   link, origin, rpy
     [tool]   link, origin, direction, length
@@ -24,6 +25,8 @@ Schema (all lengths mm, angles degrees, rates per minute; see ``docs/kinematics.
     [[parallel]]  name, virtual, origin, assembly, [[parallel.legs]] drive, guide_point,
                   guide_dir, length, attach, root, limits, max_rate
     [positions.tool_change]  X = 325.0, Y = 0.0    # named machine positions (G53 values)
+    [timing]  tool_change_s, spindle_start_s, ..., [timing.cycles] C_AXIS_ON = 2.0  (seconds;
+              see vmach.machine.spec.TimingSpec)
 
 A value that refers to a parameter is a string: ``"name"`` or ``"-name"``; nothing is evaluated.
 """
@@ -37,6 +40,7 @@ from typing import Any
 
 from vmach.findings import Finding, error
 from vmach.machine.control import collect_control
+from vmach.machine.dynamics import read_timing
 from vmach.machine.formula import FormulaError, parse_formula
 from vmach.machine.spec import (
     Geometry,
@@ -250,6 +254,7 @@ def build_spec(
         if p not in r.params:
             r.err("unknown_parameter", f"ik {ik!r} needs parameter {p!r}", ("kinematics", "ik"))
     positions = _positions(r, axes)
+    timing = read_timing(r)
     name = raw.get("name", Path(path).stem)
     if r.problems or work is None or tool is None:
         return None, r.problems
@@ -269,6 +274,7 @@ def build_spec(
         positions=positions,
         formula=formula,
         description=str(raw.get("description", "")),
+        timing=timing,
     )
     return spec, r.problems
 
@@ -299,6 +305,7 @@ def _joint(r: Reader, i: int, t: Mapping[str, Any], key: tuple | None = None) ->
     unit = "°" if jtype == "revolute" else "mm"
     limits = r.limits(t.get("limits"), key + ("limits",), f"joint {name}: limits ({unit})")
     rate = r.rate(t.get("max_rate"), key + ("max_rate",), f"joint {name}: max_rate")
+    accel = r.rate(t.get("max_accel"), key + ("max_accel",), f"joint {name}: max_accel")
     if not ok:
         return None
     return Joint(
@@ -311,6 +318,7 @@ def _joint(r: Reader, i: int, t: Mapping[str, Any], key: tuple | None = None) ->
         variable,
         limits,
         rate,
+        accel,
     )
 
 

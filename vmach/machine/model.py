@@ -20,7 +20,7 @@ from vmach.machine import closed_form, numeric, parallel
 from vmach.machine.chain import Chain
 from vmach.machine.control import parse_toml, read_text
 from vmach.machine.loader import build_spec
-from vmach.machine.spec import ModelSpec
+from vmach.machine.spec import ModelSpec, TimingSpec
 from vmach.machine.tomlpos import KeyLines
 
 MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
@@ -146,6 +146,21 @@ class Model:
             if j is not None and j.max_rate is not None:
                 out[i] = j.max_rate
         return out
+
+    @property
+    def max_accel(self) -> np.ndarray:
+        """(k,) float, mm/s² or degrees/s²; NaN where not stated."""
+        out = np.full(len(self.axes), np.nan)
+        for i, a in enumerate(self.axes):
+            j = self._joint_of(a)
+            if j is not None and j.max_accel is not None:
+                out[i] = j.max_accel
+        return out
+
+    @property
+    def timing(self) -> TimingSpec:
+        """Tool-change, spindle and corner data for the cycle time (``[timing]``)."""
+        return self.spec.timing
 
     @property
     def drive_limits(self) -> np.ndarray:

@@ -67,6 +67,7 @@ class Joint:
     variable : the machine axis (``X``, ``C1``) whose value drives the joint; None if fixed.
     limits : (min, max) travel of the variable, mm or degrees; None if unlimited.
     max_rate : mm/min or degrees/min; None if not stated.
+    max_accel : mm/s² or degrees/s² (note: per SECOND squared); None if not stated.
     """
 
     name: str
@@ -78,6 +79,31 @@ class Joint:
     variable: str | None = None
     limits: tuple[float, float] | None = None
     max_rate: float | None = None
+    max_accel: float | None = None
+
+
+@dataclass(frozen=True)
+class TimingSpec:
+    """Machine times for the cycle-time estimate (a model's ``[timing]`` table), seconds.
+
+    stated : False when the model has no ``[timing]`` table (every time below is then 0).
+    tool_change_s : one tool change (turret index or changer), the programmed moves excluded.
+    spindle_start_s, spindle_stop_s : run-up from standstill to speed, and to standstill.
+    spindle_change_s : a speed or direction change of a running spindle.
+    corner_overload : Sinumerik MD32310 MAX_ACCEL_OVL_FACTOR: at a G64 block transition an
+        axis' velocity may jump by ``max_accel · (corner_overload − 1) · ipo_cycle_s``.
+    ipo_cycle_s : interpolator cycle, s.
+    cycles : ``{name: s}`` for machine cycles and functions (``C_AXIS_ON``, ``M10``).
+    """
+
+    stated: bool = False
+    tool_change_s: float = 0.0
+    spindle_start_s: float = 0.0
+    spindle_stop_s: float = 0.0
+    spindle_change_s: float = 0.0
+    corner_overload: float = 1.2
+    ipo_cycle_s: float = 0.004
+    cycles: Mapping[str, float] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -179,3 +205,4 @@ class ModelSpec:
     positions: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
     formula: str | None = None
     description: str = ""
+    timing: TimingSpec = TimingSpec()
