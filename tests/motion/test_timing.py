@@ -150,6 +150,9 @@ def test_g93_inverse_time(tmp_path, small):
     # F2 in G93: each block takes 1/2 minute, whatever its length
     t = timed(tmp_path, small, "G93 G1 X10 F2\nG1 X110 F2\nM30\n", acceleration=False)
     assert t.row_seconds.tolist() == pytest.approx([30.0, 30.0])
+    # an arc is many chords; the block as a whole takes 1/F minutes
+    arc = timed(tmp_path, small, "G0 X10 Y0\nG93 G3 X-10 Y0 I-10 J0 F4\nM30\n", False)
+    assert len(arc.row_seconds) > 10 and arc.feed_s == pytest.approx(15.0)
 
 
 def test_dwell_seconds_and_revolutions(tmp_path, small):

@@ -258,8 +258,12 @@ def _shares(d: np.ndarray, s: np.ndarray, moving: np.ndarray) -> np.ndarray:
 
 
 def _programmed_speed(table: MoveTable, s: np.ndarray) -> np.ndarray:
-    """(n,) path units/s the program asks for; inf for rapids (axis rates decide)."""
+    """(n,) path units/s the program asks for; inf for rapids (axis rates decide).
+
+    G93: the whole block (all chords of an arc) takes 1/F minutes.
+    """
     feed = np.nan_to_num(table.feed, nan=0.0)
+    block_length = np.bincount(table.command, s)[table.command]
     spindle_col = {sp: i for i, sp in enumerate(table.spindles)}
     lookup = np.array([spindle_col.get(m, -1) for m in range(int(table.master.max()) + 1)])
     col = lookup[table.master]
@@ -267,7 +271,7 @@ def _programmed_speed(table: MoveTable, s: np.ndarray) -> np.ndarray:
     mode = table.feed_mode
     v = np.select(
         [mode == PER_MINUTE, mode == PER_REV, mode == INVERSE_TIME],
-        [feed / 60.0, feed * master_speed / 60.0, s * feed / 60.0],
+        [feed / 60.0, feed * master_speed / 60.0, block_length * feed / 60.0],
         default=0.0,
     )
     return np.where(table.kind == TRAVERSE, np.inf, v)
