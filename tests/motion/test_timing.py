@@ -323,3 +323,32 @@ def test_fixture_program_cycle_time_is_sane():
     assert fin.tool == "GLOD D25" and 4421 * 0.3 / (700 / 60) < fin.feed_s < 4421 * 0.6 / (700 / 60)
     assert 0.5 * 928 < t.total_s < 1.5 * 928
     assert elapsed < 1.0
+
+
+def test_planned_speeds_respect_every_limit(tmp_path, small):
+    """A random zig-zag under G64: caps, ramps and per-axis velocity jumps all hold."""
+    rng = np.random.default_rng(7)
+    pts = np.cumsum(rng.uniform(-3, 3, (200, 2)), axis=0)
+    c = np.cumsum(rng.uniform(0, 5, 200))
+    body = "".join(f"G1 X{x:.3f} Y{y:.3f} C{cc:.3f}\n" for (x, y), cc in zip(pts, c, strict=True))
+    r = ok(tmp_path, "G0 X0 Y0 Z0\nG64 F3000\n" + body + "M30\n", small.control)
+    table = build(r.commands, small.control)
+    t = cycle_time(table, small)
+    d = table.end - table.start
+    s = np.linalg.norm(d[:, :3], axis=1)
+    rows = np.flatnonzero(s > 0)
+    u = d[rows] / s[rows, None]
+    v0, v1 = t.entry_speed[rows], t.exit_speed[rows]
+    rate = np.array([100.0, 50.0, 100.0, 60.0])  # units/s
+    cap = np.minimum(50.0, (rate / np.maximum(np.abs(u), 1e-300)).min(axis=1))
+    a = (A / np.maximum(np.abs(u), 1e-300)).min(axis=1)
+    assert np.all(v0 <= cap * (1 + 1e-9)) and np.all(v1 <= cap * (1 + 1e-9))
+    assert np.all(np.abs(v1**2 - v0**2) <= 2 * a * s[rows] * (1 + 1e-9))
+    assert np.allclose(v1[:-1], v0[1:])  # one speed per junction
+    jumps = np.abs(v1[:-1, None] * (u[1:] - u[:-1]))
+    assert np.all(jumps <= JUMP * (1 + 1e-9))
+    assert v0[0] == 0 and v1[-1] == 0
+    # and each row takes at least its length at its cap, at most its length at its mean speed
+    sec = t.row_seconds[rows]
+    assert np.all(sec >= s[rows] / cap * (1 - 1e-9))
+    assert np.all(sec <= s[rows] / np.maximum((v0 + v1) / 2, 1e-300) * (1 + 1e-9))
