@@ -59,6 +59,7 @@ class Report:
     images: dict[str, str] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
     part: Any = None  # final stock mesh (trimesh.Trimesh) when the stock was simulated
+    timing: Any = None  # vmach.motion.timing.Timing
 
     @property
     def errors(self) -> int:
@@ -176,6 +177,14 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         report.findings.extend(spindle_off_cuts(table, _tool_spindle(model)))
         report.findings.extend(_limit_findings(model, table))
 
+    with clock("cycle_time"):
+        from vmach.motion.timing import cycle_time
+
+        timing = cycle_time(table, model)
+        report.cycle = timing.to_json()
+        report.timing = timing
+        report.findings.extend(_rate_findings(model, table))
+
     if library is not None:
         with clock("collisions"):
             from vmach.checks.collisions import fixture_collisions, tool_cylinders
@@ -214,6 +223,27 @@ def _limit_findings(model, table: MoveTable) -> list[Finding]:
                 continue
         keep.append(f)
     return _first_per_line(keep)
+
+
+def _rate_findings(model, table: MoveTable) -> list[Finding]:
+    """``rate_limit`` where the programmed feed would drive an axis faster than the model allows
+    (the control would slow down; the program asks for more than the machine can give)."""
+    from vmach.machine import rate_findings
+    from vmach.motion.timing import programmed_seconds
+
+    t = programmed_seconds(table)
+    rows = np.flatnonzero(np.isfinite(t) & (t > 0))
+    if len(rows) == 0:
+        return []
+    a = table.columns(model.axes, model.home, table.start[rows])
+    b = table.columns(model.axes, model.home, table.end[rows])
+    found = rate_findings(model, a, b, t[rows], sources=[table.source(int(r)) for r in rows],
+                          move_index=rows.tolist())
+    # the control does not alarm: it slows the path so the axis keeps its limit (the cycle time
+    # counts that); the program asks for more than the machine gives, which is worth a warning
+    slowed = [Finding(f.kind, "warning", f.message + "; the control slows the path to the axis's limit",
+                      f.source, f.move_index, f.data) for f in found]
+    return _first_per_line(slowed)
 
 
 def _first_per_line(findings: list[Finding]) -> list[Finding]:

@@ -208,11 +208,8 @@ def _motion(table: MoveTable, rate: np.ndarray, accel: np.ndarray, timing: Timin
     if n == 0:
         return seconds, v_in, v_out
     d = table.end - table.start
-    lin = ~table.rotary
-    l_lin = np.sqrt((d[:, lin] ** 2).sum(axis=1))
-    l_rot = np.sqrt((d[:, table.rotary] ** 2).sum(axis=1))
-    linear_path = l_lin > tol.merge
-    s = np.where(linear_path, l_lin, l_rot)
+    s = path_lengths(table)
+    linear_path = np.sqrt((d[:, ~table.rotary] ** 2).sum(axis=1)) > tol.merge
     moving = s > tol.merge
 
     programmed = _programmed_speed(table, s)
@@ -255,6 +252,24 @@ def _shares(d: np.ndarray, s: np.ndarray, moving: np.ndarray) -> np.ndarray:
     """(m, k) axis units per path unit (0 for rows that do not move)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(moving[:, None], d / np.where(moving, s, 1.0)[:, None], 0.0)
+
+
+def path_lengths(table: MoveTable) -> np.ndarray:
+    """(n,) path length per row: mm over the linear axes, or degrees for rotary-only rows."""
+    d = table.end - table.start
+    l_lin = np.sqrt((d[:, ~table.rotary] ** 2).sum(axis=1))
+    l_rot = np.sqrt((d[:, table.rotary] ** 2).sum(axis=1))
+    return np.where(l_lin > tol.merge, l_lin, l_rot)
+
+
+def programmed_seconds(table: MoveTable) -> np.ndarray:
+    """(n,) duration of each feed row at the feed the program asks for, before any axis limit
+    (NaN for rapids and rows without a usable feed): what rate checks compare against."""
+    s = path_lengths(table)
+    v = _programmed_speed(table, s)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where((table.kind != TRAVERSE) & (v > 0) & np.isfinite(v), s / v, np.nan)
+    return t
 
 
 def _programmed_speed(table: MoveTable, s: np.ndarray) -> np.ndarray:
