@@ -26,6 +26,18 @@ class Tolerances:
     max_blocks: int = 10_000_000
     #: Default subprogram call depth limit (Sinumerik allows 16 levels incl. main program).
     max_call_depth: int = 16
+    #: Stock removal (docs/stock.md): largest rotation of the tool between two sampled poses
+    #: of a rotary move, degrees. The pose-sampled sweep leaves scallops of at most
+    #: r·(sec(δ/2) − 1) ≈ r·δ²/8 on faces cut by a flat tool face (0.0041 mm at r = 26.8, 2°).
+    sweep_angle: float = 2.0
+    #: Stock removal: largest tool-tip travel between two sampled poses of a rotary move, mm.
+    sweep_step: float = 1.0
+    #: Polygonisation of revolved tool solids: largest radial deviation of the polygon from
+    #: the true circle, mm (the polygon straddles the circle, so half of its sagitta).
+    tool_chord: float = 0.002
+    #: Stock removal: convex hull used for a move only while its rotation stays below this
+    #: angle, degrees (above it the hull overcuts by about R·sin(δ/2); see docs/stock.md).
+    hull_angle: float = 1e-6
 
 
 tol = Tolerances()

@@ -1,0 +1,143 @@
+"""The boolean engine: the only module of vmach that imports ``manifold3d``.
+
+Everything else handles solids as opaque :data:`Solid` handles and numpy arrays, so a change
+of manifold3d's API touches this file only (the layering test enforces it). All lengths mm.
+
+manifold3d evaluates lazily; :func:`check` forces evaluation and reads the status, which is
+how the stock is *checked* to be a valid manifold after every batch rather than assumed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import manifold3d as m3d
+import numpy as np
+
+from vmach.errors import VmachError
+
+Solid = m3d.Manifold
+
+__all__ = [
+    "Solid", "StockError", "box", "bounds", "check", "cylinder", "empty", "from_mesh", "hull",
+    "intersect", "is_empty", "num_triangles", "slice_polygons", "subtract", "to_mesh",
+    "transform", "union", "volume",
+]
+
+
+class StockError(VmachError):
+    """The stock stopped being a valid manifold, or a mesh is not a closed 2-manifold."""
+
+    exit_code = 1
+
+    def __init__(self, message: str, kind: str = "stock_invalid"):
+        super().__init__(message)
+        self.kind = kind
+
+
+def empty() -> Solid:
+    return m3d.Manifold()
+
+
+def from_mesh(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh") -> Solid:
+    """Solid from a triangle mesh.
+
+    vertices : (n, 3) float, mm. faces : (m, 3) int, counter-clockwise seen from outside.
+    Raises StockError when the mesh is not a closed, oriented 2-manifold.
+    """
+    v = np.ascontiguousarray(vertices, dtype=np.float32)
+    f = np.ascontiguousarray(faces, dtype=np.uint32)
+    if v.ndim != 2 or v.shape[1] != 3 or f.ndim != 2 or f.shape[1] != 3 or len(f) < 4:
+        raise StockError(f"{what}: not a triangle mesh", kind="stock_mesh")
+    solid = m3d.Manifold(m3d.Mesh(vert_properties=v, tri_verts=f))
+    status = solid.status()
+    if status != m3d.Error.NoError or solid.is_empty():
+        raise StockError(f"{what}: not a closed 2-manifold ({status.name})", kind="stock_mesh")
+    if solid.volume() < 0:  # pragma: no cover - manifold3d orients closed meshes itself
+        raise StockError(f"{what}: faces are oriented inward", kind="stock_mesh")
+    return solid
+
+
+def hull(points: np.ndarray) -> Solid:
+    """Convex hull of points (m, 3) float, mm (empty if degenerate)."""
+    return m3d.Manifold.hull_points(np.ascontiguousarray(points, dtype=np.float64))
+
+
+def cylinder(radius: float, z0: float, z1: float, segments: int) -> Solid:
+    """Cylinder on the Z axis from z0 to z1, a ``segments``-gon with circumradius ``radius``."""
+    return m3d.Manifold.cylinder(z1 - z0, radius, radius, int(segments)).translate((0, 0, z0))
+
+
+def box(lo: Sequence[float], hi: Sequence[float]) -> Solid:
+    """Axis-aligned box from corner ``lo`` to corner ``hi`` (mm)."""
+    lo = np.asarray(lo, dtype=float)
+    size = np.asarray(hi, dtype=float) - lo
+    return m3d.Manifold.cube(tuple(size)).translate(tuple(lo))
+
+
+def transform(solid: Solid, matrix: np.ndarray) -> Solid:
+    """Rigid transform; ``matrix`` (3, 4) or (4, 4) float — rotation | translation (mm)."""
+    mat = np.asarray(matrix, dtype=np.float64)[:3, :4]
+    return solid.transform(np.ascontiguousarray(mat))
+
+
+def subtract(solid: Solid, cutters: Sequence[Solid]) -> Solid:
+    """``solid`` minus the union of ``cutters``, in one batch boolean (lazy)."""
+    if not cutters:
+        return solid
+    return m3d.Manifold.batch_boolean([solid, *cutters], m3d.OpType.Subtract)
+
+
+def union(solids: Sequence[Solid]) -> Solid:
+    """Union of solids in one batch boolean."""
+    solids = [s for s in solids if not s.is_empty()]
+    if not solids:
+        return empty()
+    if len(solids) == 1:
+        return solids[0]
+    return m3d.Manifold.batch_boolean(list(solids), m3d.OpType.Add)
+
+
+def intersect(a: Solid, b: Solid) -> Solid:
+    return a ^ b
+
+
+def check(solid: Solid, what: str = "stock") -> None:
+    """Evaluate ``solid`` and raise StockError unless it is a valid manifold."""
+    status = solid.status()
+    if status != m3d.Error.NoError:
+        raise StockError(f"{what} is no longer a valid manifold ({status.name})")
+
+
+def is_empty(solid: Solid) -> bool:
+    return bool(solid.is_empty())
+
+
+def volume(solid: Solid) -> float:
+    """Volume, mm³."""
+    return float(solid.volume())
+
+
+def num_triangles(solid: Solid) -> int:
+    return int(solid.num_tri())
+
+
+def bounds(solid: Solid) -> np.ndarray:
+    """Axis-aligned bounds (2, 3) float, mm: [min, max] (NaN-free; zeros when empty)."""
+    if solid.is_empty():
+        return np.zeros((2, 3))
+    return np.asarray(solid.bounding_box(), dtype=float).reshape(2, 3)
+
+
+def to_mesh(solid: Solid) -> tuple[np.ndarray, np.ndarray]:
+    """Triangle mesh: vertices (n, 3) float, mm; faces (m, 3) int64."""
+    mesh = solid.to_mesh()
+    v = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
+    f = np.asarray(mesh.tri_verts, dtype=np.int64)
+    return v, f
+
+
+def slice_polygons(solid: Solid, z: float) -> list[np.ndarray]:
+    """Section by the plane Z = z: closed contours, each (k, 2) float, mm (outer contours
+    counter-clockwise, holes clockwise)."""
+    return [np.asarray(p, dtype=float) for p in solid.slice(float(z)).to_polygons()]

@@ -1,0 +1,124 @@
+"""Drive stock removal from a move table through a machine model's forward kinematics.
+
+    result = simulate(table, model, library, stock)
+
+Every row with a known tool is cut, rapid moves included (a rapid into material is reported by
+the verify stage; the material is gone either way). Rows that turn a rotary axis are sampled
+between their ends by evaluating the kinematics at linearly interpolated axis values — what the
+control's interpolator does — so that each sample step stays within ``tol.sweep_angle`` of
+rotation and ``tol.sweep_step`` of tip travel (:func:`vmach.stock.sweep.rotary_substeps`).
+Straight rows without rotation are cut as exact translation hulls.
+
+The kinematics is any object with ``fk(q) -> pose`` (``pose.tip``, ``pose.axis``: (n, 3)) and
+``axes``/``home`` naming the columns of ``q``; the stage does not depend on how poses are made.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vmach.findings import Finding, warning
+from vmach.stock.stock import Stock
+from vmach.stock.sweep import rotary_substeps, scallop_bound
+from vmach.tol import tol
+
+
+@dataclass
+class SimResult:
+    """What a simulation did.
+
+    moves : rows cut; samples : poses evaluated; seconds : wall time of kinematics + cutting.
+    bound_mm : largest flat-face scallop the sampling allows (``r·(sec(δ/2) − 1)`` at the
+        largest sampled rotation δ and the largest tip distance r from the work Z axis).
+    findings : rows whose tool the library lacks (one warning per tool name).
+    """
+
+    moves: int = 0
+    samples: int = 0
+    seconds: float = 0.0
+    kinematics_seconds: float = 0.0
+    bound_mm: float = 0.0
+    max_step_deg: float = 0.0
+    findings: list[Finding] = field(default_factory=list)
+
+
+def sample_rows(start: np.ndarray, end: np.ndarray, rotary: np.ndarray, fk,
+                angle: float = tol.sweep_angle, step: float = tol.sweep_step):
+    """Axis values of one connected path of rows, sampled for cutting.
+
+    start, end : (n, k) float — rows in order (row i ends where row i+1 starts).
+    rotary : (k,) bool. fk : callable (m, k) -> pose with tip, axis (m, 3).
+    Returns q (m, k) float: the first start, then for each row its sub-samples up to its end.
+    """
+    start = np.asarray(start, dtype=float)
+    end = np.asarray(end, dtype=float)
+    rot = np.abs(end[:, rotary] - start[:, rotary]).max(axis=1) if rotary.any() else np.zeros(len(start))
+    k = np.ones(len(start), dtype=int)
+    if (rot > 0).any():
+        ends = fk(np.concatenate([start[rot > 0], end[rot > 0]]))
+        m = int((rot > 0).sum())
+        travel = np.linalg.norm(ends.tip[:m] - ends.tip[m:], axis=1)
+        k[rot > 0] = rotary_substeps(rot[rot > 0], travel, angle, step)
+    total = int(k.sum())
+    row = np.repeat(np.arange(len(start)), k)
+    first = np.r_[0, np.cumsum(k)[:-1]]
+    t = (np.arange(total) - np.repeat(first, k) + 1) / np.repeat(k, k)
+    q = start[row] + (end[row] - start[row]) * t[:, None]
+    return np.vstack([start[:1], q]), k
+
+
+def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_angle,
+             step: float = tol.sweep_step) -> SimResult:
+    """Cut ``stock`` with every row of ``table`` (a :class:`vmach.motion.table.MoveTable`).
+
+    model : kinematics (``axes``, ``home``, ``fk``); library : tool library (``lookup``).
+    """
+    t0 = time.perf_counter()
+    res = SimResult()
+    n = len(table)
+    if n == 0:
+        return res
+    axes = tuple(model.axes)
+    rotary = np.array([table.rotary[table.axes.index(a)] if a in table.axes else False for a in axes])
+    q0 = table.columns(axes, model.home, table.start)
+    q1 = table.columns(axes, model.home, table.end)
+    tool = np.asarray(table.tool)
+    box = np.asarray(stock.initial_bounds)
+    r_stock = float(np.hypot(np.abs(box[:, 0]).max(), np.abs(box[:, 1]).max()))
+    # paths: maximal runs of rows with the same tool
+    cuts = np.nonzero(np.diff(tool) != 0)[0] + 1
+    missing: set[str] = set()
+    for a, b in zip(np.r_[0, cuts], np.r_[cuts, n], strict=True):
+        ti = int(tool[a])
+        if ti < 0:
+            continue
+        name = table.tools[ti]
+        found = library.lookup(name) if library is not None else None
+        if found is None:
+            if name not in missing:
+                missing.add(name)
+                res.findings.append(warning(
+                    "stock_tool_unknown", f'tool "{name}" is not in the tool library: its moves '
+                    "remove no material", table.source(a), tool=name))
+            continue
+        tk = time.perf_counter()
+        q, k = sample_rows(q0[a:b], q1[a:b], rotary, model.fk, angle, step)
+        pose = model.fk(q)
+        res.kinematics_seconds += time.perf_counter() - tk
+        stock.cut(found, pose.tip, pose.axis)
+        res.moves += b - a
+        res.samples += len(q)
+        if rotary.any() and len(q) > 1:
+            # scallop bound over the rotary steps taken where the tip is inside the stock radius
+            dq = np.abs(np.diff(q[:, rotary], axis=0)).max(axis=1)
+            r = np.linalg.norm(pose.tip[:, :2], axis=1)
+            r = np.maximum(r[:-1], r[1:])
+            near = (dq > 0) & (r <= r_stock)
+            if near.any():
+                res.max_step_deg = max(res.max_step_deg, float(dq[near].max()))
+                res.bound_mm = max(res.bound_mm, float(scallop_bound(r[near], dq[near]).max()))
+    res.seconds = time.perf_counter() - t0
+    return res

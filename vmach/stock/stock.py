@@ -1,0 +1,249 @@
+"""The stock: a solid cut by tool paths, in batches, checked after every batch.
+
+    stock = Stock.from_spec("cylinder:d=60,l=100")
+    stock.cut(tool, tips, axes)          # one path: (n, 3) tips, (n, 3) unit axes, work frame
+    part = stock.solid                   # flushes pending cutters
+    stock.export("part.stl"); stock.export("removed.3mf", which="removed")
+
+Cutters (placed tool pieces and translation hulls, :mod:`vmach.stock.sweep`) are queued per
+partition cell and subtracted ``batch`` at a time with one batch boolean. Subtraction commutes,
+so the order in which cells and batches are processed does not change the result. After every
+batch the cell is evaluated and checked: a valid manifold whose volume did not grow.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from vmach.errors import InputError
+from vmach.stock import engine
+from vmach.stock.spec import parse_stock
+from vmach.stock.sweep import plan, run_extremes
+from vmach.tol import tol
+from vmach.tooling.model import Tool
+from vmach.tooling.solid import ToolSolid, frames, place, tool_solid
+
+EXPORT_FORMATS = (".stl", ".3mf", ".ply")
+
+
+@dataclass
+class CutStats:
+    """Counters of a stock's life (seconds, counts)."""
+
+    paths: int = 0
+    poses: int = 0
+    cutters: int = 0
+    culled: int = 0
+    batches: int = 0
+    sweep_seconds: float = 0.0
+    boolean_seconds: float = 0.0
+
+
+@dataclass
+class _Cell:
+    solid: engine.Solid
+    box: np.ndarray                       # (2, 3) current bounds
+    volume: float
+    pending: list = field(default_factory=list)
+
+
+class Stock:
+    """Material that tool paths remove.
+
+    solid : engine.Solid — the blank.
+    batch : int — cutters per batch boolean.
+    cells : (3,) int — partition of the blank's bounds into nx × ny × nz cells (1, 1, 1: none).
+    chord : float, mm — polygonisation tolerance of tool solids.
+    progress : bool — show a progress bar on stderr when it is a terminal.
+    """
+
+    def __init__(self, solid: engine.Solid, *, batch: int = 64,
+                 cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
+                 progress: bool = False):
+        engine.check(solid, "blank")
+        self.initial = solid
+        self.initial_bounds = engine.bounds(solid)
+        self.batch = max(1, int(batch))
+        self.chord = chord
+        self.stats = CutStats()
+        self._cells = self._partition(solid, cells)
+        self._solid: engine.Solid | None = solid
+        self._bar = None
+        self._progress = progress and sys.stderr.isatty()
+        self._piece_cache: dict[tuple, list[engine.Solid]] = {}
+
+    @classmethod
+    def from_spec(cls, spec: str, **kw) -> Stock:
+        return cls(parse_stock(spec), **kw)
+
+    # ----------------------------------------------------------------------------------------
+    @staticmethod
+    def _partition(solid: engine.Solid, cells) -> list[_Cell]:
+        nx, ny, nz = (max(1, int(c)) for c in cells)
+        b = engine.bounds(solid)
+        if nx * ny * nz == 1:
+            return [_Cell(solid, b, engine.volume(solid))]
+        pad = 1e-3
+        edges = [np.linspace(b[0, i] - pad, b[1, i] + pad, n + 1) for i, n in enumerate((nx, ny, nz))]
+        out = []
+        for i in range(nx):
+            for j in range(ny):
+                for k in range(nz):
+                    lo = (edges[0][i], edges[1][j], edges[2][k])
+                    hi = (edges[0][i + 1], edges[1][j + 1], edges[2][k + 1])
+                    piece = engine.intersect(solid, engine.box(lo, hi))
+                    engine.check(piece, "stock cell")
+                    if not engine.is_empty(piece):
+                        out.append(_Cell(piece, engine.bounds(piece), engine.volume(piece)))
+        return out
+
+    def _tool_pieces(self, ts: ToolSolid) -> list[engine.Solid]:
+        key = (id(ts),)
+        if key not in self._piece_cache:
+            self._piece_cache[key] = [engine.hull(p) for p in ts.pieces]
+        return self._piece_cache[key]
+
+    # ----------------------------------------------------------------------------------------
+    def cut(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray) -> int:
+        """Queue the swept volume of one path; returns the number of cutters queued.
+
+        tool : Tool (polygonised with this stock's chord) or a ready ToolSolid.
+        tips : (n, 3) float, mm; axes : (n, 3) float, unit — poses in the work frame, joined by
+        motion in order. A rotary path must be sampled densely enough for the wanted accuracy
+        (see :mod:`vmach.stock.sweep`).
+        """
+        t0 = time.perf_counter()
+        ts = tool if isinstance(tool, ToolSolid) else tool_solid(tool, self.chord)
+        tips = np.asarray(tips, dtype=float).reshape(-1, 3)
+        axes = np.asarray(axes, dtype=float).reshape(-1, 3)
+        if len(tips) != len(axes):
+            raise InputError("cut: tips and axes differ in length", kind="stock_input")
+        if not (np.isfinite(tips).all() and np.isfinite(axes).all()):
+            raise InputError("cut: non-finite pose", kind="stock_input")
+        if len(tips) == 0:
+            return 0
+        sp = plan(tips, axes)
+        fr = frames(tips, axes)
+        solids = self._tool_pieces(ts)
+        cutters: list[engine.Solid] = []
+        boxes: list[np.ndarray] = []
+        for k, pts in enumerate(ts.pieces):
+            if len(sp.poses):
+                placed = place(pts, fr[sp.poses])                       # (m, p, 3)
+                lo, hi = placed.min(axis=1), placed.max(axis=1)
+                for j, pose in enumerate(sp.poses):
+                    cutters.append(engine.transform(solids[k], fr[pose]))
+                    boxes.append(np.stack([lo[j], hi[j]]))
+            for run in sp.runs:
+                a, b = run_extremes(tips, run)
+                both = place(pts, fr[[a, b]]).reshape(-1, 3)
+                cutters.append(engine.hull(both))
+                boxes.append(np.stack([both.min(axis=0), both.max(axis=0)]))
+        self.stats.paths += 1
+        self.stats.poses += len(tips)
+        self.stats.sweep_seconds += time.perf_counter() - t0
+        self._queue(cutters, boxes)
+        return len(cutters)
+
+    def _queue(self, cutters: list[engine.Solid], boxes: list[np.ndarray]) -> None:
+        if not cutters:
+            return
+        self._solid = None
+        bx = np.asarray(boxes)                                            # (c, 2, 3)
+        used = np.zeros(len(cutters), bool)
+        for cell in self._cells:
+            hit = np.all(bx[:, 0] <= cell.box[1], axis=1) & np.all(bx[:, 1] >= cell.box[0], axis=1)
+            used |= hit
+            for i in np.nonzero(hit)[0]:
+                cell.pending.append(cutters[i])
+            while len(cell.pending) >= self.batch:
+                self._flush_cell(cell, self.batch)
+        self.stats.cutters += len(cutters)
+        self.stats.culled += int((~used).sum())
+        if self._progress:
+            if self._bar is None:
+                from tqdm import tqdm
+
+                self._bar = tqdm(total=0, unit="cutter", desc="stock", leave=False)
+            self._bar.total += int(used.sum())
+            self._bar.refresh()
+
+    def _flush_cell(self, cell: _Cell, count: int | None = None) -> None:
+        take = cell.pending[:count] if count else cell.pending
+        cell.pending = cell.pending[len(take):]
+        if not take:
+            return
+        t0 = time.perf_counter()
+        new = engine.subtract(cell.solid, take)
+        engine.check(new, "stock")
+        vol = engine.volume(new)
+        if vol > cell.volume * (1 + 1e-9) + 1e-9:
+            raise engine.StockError(f"stock volume grew from {cell.volume:.6f} to {vol:.6f} mm³")
+        cell.solid, cell.volume = new, vol
+        cell.box = engine.bounds(new) if not engine.is_empty(new) else np.array([[np.inf] * 3, [-np.inf] * 3])
+        self.stats.batches += 1
+        self.stats.boolean_seconds += time.perf_counter() - t0
+        if self._bar is not None:
+            self._bar.update(len(take))
+
+    def flush(self) -> None:
+        """Subtract every queued cutter."""
+        for cell in self._cells:
+            while cell.pending:
+                self._flush_cell(cell, self.batch)
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
+
+    # ----------------------------------------------------------------------------------------
+    @property
+    def solid(self) -> engine.Solid:
+        """The cut part (all pending cutters subtracted)."""
+        if self._solid is None:
+            self.flush()
+            t0 = time.perf_counter()
+            self._solid = engine.union([c.solid for c in self._cells])
+            engine.check(self._solid, "stock")
+            self.stats.boolean_seconds += time.perf_counter() - t0
+        return self._solid
+
+    def removed(self) -> engine.Solid:
+        """The removed material: blank minus part."""
+        return engine.subtract(self.initial, [self.solid])
+
+    @property
+    def volume(self) -> float:
+        return sum(c.volume for c in self._cells) if self._solid is None and not any(
+            c.pending for c in self._cells) else engine.volume(self.solid)
+
+    def section(self, z: float) -> list[np.ndarray]:
+        """Contours of the part at Z = z, each (k, 2) float, mm."""
+        return engine.slice_polygons(self.solid, z)
+
+    def mesh(self, which: str = "part") -> tuple[np.ndarray, np.ndarray]:
+        """Vertices (n, 3) and faces (m, 3) of the part or the removed volume."""
+        return engine.to_mesh(self.solid if which == "part" else self.removed())
+
+    def export(self, path: str | Path, which: str = "part") -> Path:
+        """Write the part (``which="part"``) or the removed volume (``"removed"``) as .stl,
+        .3mf or .ply (trimesh)."""
+        import trimesh
+
+        p = Path(path)
+        if p.suffix.lower() not in EXPORT_FORMATS:
+            raise InputError(f"{p}: export format must be one of {', '.join(EXPORT_FORMATS)}",
+                             kind="export_format")
+        if which not in ("part", "removed"):
+            raise InputError(f"export: which must be 'part' or 'removed', not {which!r}",
+                             kind="export_format")
+        v, f = self.mesh(which)
+        try:
+            trimesh.Trimesh(v, f, process=False).export(p)
+        except OSError as exc:
+            raise InputError(f"{p}: cannot write: {exc.strerror or exc}", kind="unwritable") from None
+        return p
