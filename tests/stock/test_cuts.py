@@ -1,0 +1,127 @@
+"""Stock removal against answers known in closed form, and the sweep's error bounds."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from tests.stock.conftest import turnmill
+from vmach.stock import Stock, engine
+from vmach.stock.sweep import hull_overcut, plan, scallop_bound
+from vmach.tooling import Tool, frames, place, tool_solid
+from vmach.tooling.solid import straddle_radius
+
+
+def radii(stock: Stock, z: float) -> np.ndarray:
+    """Distances from the work axis of the section contour around the axis (vertices)."""
+    from vmach.checks.profile import axis_contour
+
+    c = axis_contour(stock.section(z))
+    return np.hypot(c[:, 0], c[:, 1])
+
+
+def edge_distance(contour: np.ndarray) -> np.ndarray:
+    """Distance of each edge of a closed contour from the origin (nearest point of the edge)."""
+    a, b = contour, np.roll(contour, -1, axis=0)
+    d = b - a
+    t = np.clip(-np.einsum("ij,ij->i", a, d) / np.einsum("ij,ij->i", d, d), 0.0, 1.0)
+    return np.linalg.norm(a + t[:, None] * d, axis=1)
+
+
+def test_straight_slot_removes_exactly_the_minkowski_sum(flat10):
+    stock = Stock.from_spec("box:xmin=-50,xmax=50,ymin=-20,ymax=20,zmin=-10,zmax=0")
+    v0 = stock.volume
+    x = np.array([-20.0, 0.0, 20.0])
+    tips = np.column_stack([x, np.zeros(3), np.full(3, -3.0)])
+    axes = np.tile([0.0, 0.0, 1.0], (3, 1))
+    assert plan(tips, axes).runs.tolist() == [[0, 2]]  # collinear steps coalesced into one hull
+    stock.cut(flat10, tips, axes)
+    ts = tool_solid(flat10)
+    n, rv = ts.segments, straddle_radius(flat10.radius, ts.segments)
+    ring = rv * np.exp(2j * np.pi * (np.arange(n) + 0.5) / n)
+    area = 0.5 * n * rv ** 2 * math.sin(2 * math.pi / n)
+    width = ring.imag.max() - ring.imag.min()
+    expected = 3.0 * (area + width * 40.0)     # depth x (polygon + swept band)
+    assert v0 - stock.volume == pytest.approx(expected, rel=2e-6)
+    engine.check(stock.solid)
+
+
+def test_rotary_face_cut_leaves_the_tangent_polygon_and_never_overcuts(face40):
+    """A face mill at X = h turned a full turn in steps of delta: the section is the polygon
+    of tangents to the circle of radius h; its corners stand h(sec(delta/2) - 1) proud."""
+    h, delta = 26.0, 2.0
+    c = np.arange(0.0, 360.0 + 1e-9, delta)
+    tips, axes = turnmill(h, 0.0, -30.0, c)
+    stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
+    stock.cut(face40, tips, axes)
+    from vmach.checks.profile import axis_contour
+
+    contour = axis_contour(stock.section(-30.0))
+    r = radii(stock, -30.0)
+    bound = float(scallop_bound(h, delta))
+    assert bound == pytest.approx(h * (1 / math.cos(math.radians(delta / 2)) - 1))
+    assert edge_distance(contour).min() >= h - 1e-4  # no overcut
+    assert r.max() <= h + bound + 1e-4              # scallops within the bound ...
+    assert r.max() >= h + 0.9 * bound               # ... and the bound is what is left
+
+
+def test_hull_of_two_rotated_poses_overcuts_by_about_r_sin_half_delta(library):
+    """Why rotary steps are not hulled (issue 4): 0.19 mm for the D25 cutter at 1.713 deg."""
+    tool = library.lookup("GLOD D25")
+    h, delta = 25.0, 1.713
+    tips, axes = turnmill(h, 0.0, 0.0, [0.0, delta])
+    ts = tool_solid(tool)
+    pts = place(ts.pieces[0], frames(tips, axes)).reshape(-1, 3)
+    section = engine.slice_polygons(engine.hull(pts), 0.0)[0]
+    expected = hull_overcut(tool.radius, h, delta)
+    assert expected == pytest.approx(tool.radius * math.sin(math.radians(delta / 2)), rel=0.03)
+    assert expected > 0.18
+    depth = h - edge_distance(section).min()
+    assert depth == pytest.approx(expected, abs=ts.deviation + 1e-4)
+
+
+def test_stock_stays_valid_and_part_plus_removed_is_the_blank(face40, tmp_path):
+    stock = Stock.from_spec("cylinder:d=60,l=40", batch=8, chord=0.01)
+    tips, axes = turnmill(27.0, np.linspace(-5, 5, 30), -10.0, np.linspace(0, 90, 30))
+    stock.cut(face40, tips, axes)
+    part = stock.solid
+    engine.check(part)
+    assert stock.stats.batches >= 4
+    removed = engine.volume(stock.removed())
+    assert removed > 0
+    assert engine.volume(part) + removed == pytest.approx(engine.volume(stock.initial), rel=1e-6)
+
+
+@pytest.mark.parametrize("suffix", [".stl", ".3mf", ".ply"])
+def test_export_round_trips_through_trimesh(face40, tmp_path, suffix):
+    import trimesh
+
+    stock = Stock.from_spec("cylinder:d=60,l=40", chord=0.01)
+    tips, axes = turnmill(27.0, 0.0, -10.0, [0.0, 10.0, 20.0])
+    stock.cut(face40, tips, axes)
+    for which in ("part", "removed"):
+        path = stock.export(tmp_path / f"{which}{suffix}", which=which)
+        mesh = trimesh.load(path, force="mesh")
+        want = engine.volume(stock.solid if which == "part" else stock.removed())
+        assert mesh.is_watertight
+        assert abs(mesh.volume) == pytest.approx(want, rel=1e-4)
+
+
+def test_paths_away_from_the_stock_are_culled(face40):
+    stock = Stock.from_spec("cylinder:d=60,l=40")
+    tips, axes = turnmill(325.0, 0.0, 50.0, [0.0, 90.0, 180.0])
+    n = stock.cut(face40, tips, axes)
+    assert n == 3 and stock.stats.culled == 3
+    assert stock.volume == pytest.approx(engine.volume(stock.initial))
+
+
+def test_bad_poses_are_input_errors(face40):
+    from vmach.errors import InputError
+
+    stock = Stock.from_spec("cylinder:d=60,l=40")
+    with pytest.raises(InputError):
+        stock.cut(face40, np.zeros((2, 3)), np.zeros((3, 3)))
+    with pytest.raises(InputError):
+        stock.cut(face40, np.full((1, 3), np.nan), np.array([[1.0, 0, 0]]))

@@ -1,0 +1,107 @@
+"""Tool library loading, lookup, profiles and solids."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from vmach.errors import ModelError
+from vmach.tooling import Tool, load_tools, tool_solid
+from vmach.tooling.solid import convex_runs, polygon_deviation, segments_for, straddle_radius
+
+
+def test_fixture_library_has_the_three_cutters_by_name_and_number(library):
+    assert len(library) == 3
+    d40 = library.lookup("GLOD D40")
+    assert (d40.kind, d40.diameter, d40.cutting_length, d40.teeth) == ("face", 40.0, 5.5, 4)
+    assert library.lookup("glod d16_15").kind == "chamfer"
+    d25 = library.lookup(3)
+    assert (d25.name, d25.diameter, d25.teeth) == ("GLOD D25", 25.0, 3)
+    assert library.lookup("2").name == "GLOD D16_15"
+    assert library.lookup("GLOD D99") is None and "GLOD D40" in library
+    assert d40.offsets[1].radius == 20.0 and d40.length(1) == 0.0 and d40.length(7) == 0.0
+
+
+def test_chamfer_mill_puts_radius_4_at_4_tan_15_behind_the_tip(library):
+    """domain §4: the tool sits 4·tan 15° inside the profile to cut a 15° x 3 mm chamfer."""
+    prof = library.lookup("GLOD D16_15").profile()
+    z4 = np.interp(4.0, prof[:2, 1], prof[:2, 0])
+    assert z4 == pytest.approx(4 * math.tan(math.radians(15)), abs=1e-12)
+
+
+def test_bad_library_reports_every_problem_at_its_line(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(
+        "[[tool]]\n"                      # 1
+        'name = "A"\n'                    # 2
+        'type = "flat"\n'                 # 3
+        "diameter = -3\n"                 # 4
+        "cutting_length = 10\n"           # 5
+        "[[tool]]\n"                      # 6
+        'name = "B"\n'                    # 7
+        'type = "cone"\n'                 # 8
+        "diameter = 8\n"                  # 9
+        "cutting_length = 5\n"            # 10
+        "colour = 3\n"                    # 11
+        "[[tool]]\n"                      # 12
+        'name = "C"\n'                    # 13
+        'type = "bull"\n'                 # 14
+        "diameter = 8\n"                  # 15
+        "cutting_length = 5\n"            # 16
+        "corner_radius = 6\n",            # 17
+        encoding="utf-8",
+    )
+    with pytest.raises(ModelError) as exc:
+        load_tools(path)
+    got = sorted((f.kind, f.line) for f in exc.value.findings())
+    assert got == [("tool_library", 4), ("tool_library", 8), ("tool_library", 11), ("tool_library", 17)]
+
+
+def test_duplicate_names_and_numbers_are_errors(tmp_path):
+    path = tmp_path / "dup.toml"
+    one = '[[tool]]\nname = "{}"\nnumber = {}\ntype = "flat"\ndiameter = 6\ncutting_length = 10\n'
+    path.write_text(one.format("A", 1) + one.format("a", 2) + one.format("B", 1), encoding="utf-8")
+    with pytest.raises(ModelError) as exc:
+        load_tools(path)
+    assert [f.line for f in exc.value.findings()] == [8, 15]  # the name, then the number
+
+
+@pytest.mark.parametrize(
+    "tool",
+    [
+        Tool("flat", "flat", 10.0, 20.0),
+        Tool("ball", "ball", 10.0, 20.0),
+        Tool("bull", "bull", 10.0, 20.0, corner_radius=2.0),
+        Tool("chamfer", "chamfer", 16.0, 6.0, point_angle=90.0, tip_diameter=2.0),
+        Tool("drill", "drill", 8.0, 30.0, point_angle=118.0),
+    ],
+)
+def test_profiles_are_convex_single_pieces_with_the_right_radius(tool):
+    prof = tool.profile(chord=0.001)
+    assert prof[0].tolist() == [0.0, 0.0] and prof[-1, 1] == 0.0
+    assert prof[:, 1].max() == pytest.approx(tool.radius)
+    assert len(convex_runs(prof)) == 1
+    solid = tool_solid(tool, 0.002)
+    assert len(solid.pieces) == 1 and solid.deviation <= 0.002
+    r = np.hypot(solid.points[:, 0], solid.points[:, 1])
+    assert r.max() == pytest.approx(straddle_radius(tool.radius, solid.segments))
+    if tool.kind == "ball":  # every profile point on the sphere of radius R about (0,0,R)
+        assert np.allclose(np.hypot(prof[:-1, 1], prof[:-1, 0] - tool.radius)[1:-1], tool.radius)
+
+
+def test_a_necked_profile_splits_into_convex_pieces():
+    prof = np.array([[0, 0], [0, 5], [10, 5], [10, 3], [30, 3], [30, 0]], float)
+    runs = convex_runs(prof)
+    assert len(runs) == 2
+    assert runs[0][:, 0].max() == 10 and runs[1][:, 0].min() == 10
+
+
+def test_straddling_polygon_deviation_is_within_the_chord():
+    for r in (2.0, 8.0, 12.5, 20.0, 30.0):
+        n = segments_for(r, 0.002)
+        assert polygon_deviation(r, n) <= 0.002
+        assert polygon_deviation(r, n - 1) > 0.002 or n == 12
+        rv = straddle_radius(r, n)
+        assert rv - r == pytest.approx(r - rv * math.cos(math.pi / n))
