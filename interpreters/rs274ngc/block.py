@@ -16,7 +16,7 @@ from pathlib import Path
 
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.expr import to_integer
-from interpreters.rs274ngc.lexer import Line, item_column
+from interpreters.rs274ngc.lexer import Line, item_column  # noqa: F401 (re-exported)
 
 _DATA = tomllib.loads(Path(__file__).with_name("modal_groups.toml").read_text(encoding="utf-8"))
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.expr import evaluate
+from interpreters.rs274ngc.lexer import n_label
 
 _SAFE_NAME = re.compile(r"[a-z0-9_][a-z0-9_.\-]*")
 
@@ -95,7 +96,8 @@ class FlowMixin:
             if o.name == name and o.kind in kinds:
                 self.pc = pc
                 out = self.out
-                out.nlabel = line.nlabel
+                if out.trace:
+                    out.nlabel = n_label(line.raw)
                 if out.want:
                     out.src = prog.ref(self.index)
                 return line

@@ -10,14 +10,16 @@ the closing ``%`` in percent mode; running off the end of the file is an error.
 
 from __future__ import annotations
 
+import gc
 from pathlib import Path
 
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.cycles import CycleMixin
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.execute import ExecuteMixin
+from interpreters.rs274ngc.fastpath import FastPathMixin
 from interpreters.rs274ngc.flow import FlowMixin
-from interpreters.rs274ngc.lexer import Line, parse_line
+from interpreters.rs274ngc.lexer import Line, n_label, parse_line
 from interpreters.rs274ngc.motion import MotionMixin
 from interpreters.rs274ngc.offsets import OffsetMixin
 from interpreters.rs274ngc.output import Output
@@ -68,7 +70,7 @@ def load_program(path: str) -> Program:
     return Program(path, data.decode("utf-8", errors="replace"))
 
 
-class Interpreter(FlowMixin, ExecuteMixin, MotionMixin, CycleMixin, OffsetMixin):
+class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixin, OffsetMixin):
     """One run of one program."""
 
     def __init__(self, path: str, control: ControlSpec, options: RunOptions, out: Output,
@@ -164,6 +166,8 @@ class Interpreter(FlowMixin, ExecuteMixin, MotionMixin, CycleMixin, OffsetMixin)
         self.out.simple("ON_RESET")
         finding = None
         completed = True
+        collecting = gc.isenabled()
+        gc.disable()  # a run allocates many long-lived commands: collecting only slows it
         try:
             self.main_loop()
         except NgcError as exc:
@@ -172,6 +176,9 @@ class Interpreter(FlowMixin, ExecuteMixin, MotionMixin, CycleMixin, OffsetMixin)
         except RecursionError:
             finding = self.finding(NgcError("call_depth"))
             completed = False
+        finally:
+            if collecting:
+                gc.enable()
         self.out.nlabel = "N..... "
         self.out.simple("ON_RESET")
         self.out.simple("ON_RESET")
@@ -189,12 +196,16 @@ class Interpreter(FlowMixin, ExecuteMixin, MotionMixin, CycleMixin, OffsetMixin)
             self.pc = pc + 1
             self.index = pc
             self.line = line
-            out.nlabel = line.nlabel
+            if out.trace:
+                out.nlabel = line.nlabel or _nlabel(line)
             if out.want:
                 out.src = prog.refs[pc] or prog.ref(pc)
             self.blocks += 1
             if self.blocks > limit:
                 raise NgcError("block_limit", limit=limit)
+            fast = line.fast
+            if fast is not None and self.fast_move(fast):
+                continue
             if self.step(line) == END:
                 return
 
@@ -225,6 +236,10 @@ class Interpreter(FlowMixin, ExecuteMixin, MotionMixin, CycleMixin, OffsetMixin)
             if line.o is None:
                 raise line.error
             return self.control(line)
+        if line.simple and self.simple_step(line):
+            return None
+        if line.assign:
+            return self.assign(line)
         block = blk.read_block(line, self)
         blk.enhance(block, s.motion)
         blk.check(block, s.incremental)
@@ -255,6 +270,16 @@ class Interpreter(FlowMixin, ExecuteMixin, MotionMixin, CycleMixin, OffsetMixin)
             i = min(self.index, len(prog.raw) - 1)
             src = prog.ref(i, exc.column or 1)
         return error(exc.kind, exc.message, src)
+
+
+def _nlabel(line: Line) -> str:
+    line.nlabel = n_label(line.raw)
+    return line.nlabel
+
+
+def _pocket(it, index: int) -> float:
+    """The pocket (P of the tool table) of a tool table index; -1 for none."""
+    return it.tools.entry(index).pocket if index > 0 else -1
 
 
 def _coord_system(it) -> float:
@@ -302,9 +327,9 @@ PREDEFINED = {
     "_b": lambda it: it.s.pos[4],
     "_c": lambda it: it.s.pos[5],
     "_current_tool": lambda it: it.tools.spindle.number,
-    "_current_pocket": lambda it: it.s.current_pocket,
+    "_current_pocket": lambda it: _pocket(it, it.s.current_pocket),
     "_selected_tool": lambda it: it.s.selected_tool,
-    "_selected_pocket": lambda it: it.s.selected_pocket,
+    "_selected_pocket": lambda it: _pocket(it, it.s.selected_pocket) if it.s.t_seen else -1,
     "_value": lambda it: 0.0,
     "_value_returned": lambda it: 0.0,
     "_task": lambda it: 0,

@@ -27,7 +27,7 @@ O_KINDS = (
     "break", "continue", "endwhile", "endrepeat", "return",
 )
 _UPPER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz")
-_BLANKS = str.maketrans("", "", " \t\r")
+_REDUCE = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz", " \t\r")
 _SIMPLE = re.compile(r"(?:[a-mp-txyz][+-]?(?:\d+\.?\d*|\.\d+))+")
 _SIMPLE_WORD = re.compile(r"([a-z])([+-]?(?:\d+\.?\d*|\.\d+))")
 _DIGITS = re.compile(r"\d*")
@@ -69,21 +69,40 @@ class Line:
     o : the O-word of a control line, else None.
     """
 
-    __slots__ = ("number", "raw", "nlabel", "skip_error", "blank", "slash", "percent",
-                 "items", "error", "o", "const")
+    # class-level defaults: a line only stores what differs (parsing is on the hot path)
+    nlabel: str | None = None  # computed when a trace needs it (see n_label)
+    skip_error: NgcError | None = None
+    blank = False
+    slash = False
+    percent = False
+    error: NgcError | None = None
+    o: OLine | None = None
+    const = False
+    #: only G0/G1 (constant), F and axis words, each at most once: the fast path
+    simple = False
+    #: for simple lines of constants: (motion code or -1, {letter: value} without g)
+    fast: tuple | None = None
+    #: only parameter settings (``#1 = [#1 + 1]``)
+    assign = False
 
     def __init__(self, number: int, raw: str):
         self.number = number
         self.raw = raw
-        self.nlabel = n_label(raw)
-        self.skip_error: NgcError | None = None
-        self.blank = False
-        self.slash = False
-        self.percent = False
-        self.items: list[tuple] = []
-        self.error: NgcError | None = None
-        self.o: OLine | None = None
-        self.const = False
+
+    @property
+    def items(self) -> list[tuple]:
+        """Words, settings and comments in reading order (built on first use for lines
+        of plain constant words, which the fast path executes without them)."""
+        d = self.__dict__
+        items = d.get("_items")
+        if items is None:
+            found = d.get("found", ())
+            items = d["_items"] = [("w", a, float(b), 0) for a, b in found]
+        return items
+
+    @items.setter
+    def items(self, value: list[tuple]) -> None:
+        self.__dict__["_items"] = value
 
 
 def n_label(raw: str) -> str:
@@ -121,7 +140,7 @@ def column_map(raw: str) -> list[int]:
 def reduce_line(raw: str) -> str:
     """close_and_downcase: drop blanks and lower-case outside comments; check comments."""
     if "(" not in raw and ";" not in raw and ")" not in raw:
-        return raw.translate(_BLANKS).translate(_UPPER)
+        return raw.translate(_REDUCE)
     out = []
     comment = semi = False
     for i, ch in enumerate(raw):
@@ -152,24 +171,65 @@ def reduce_line(raw: str) -> str:
 def parse_line(number: int, raw: str) -> Line:
     """Parse one source line (without its line end)."""
     line = Line(number, raw)
-    try:
-        text = reduce_line(raw)
-    except NgcError as exc:
-        line.skip_error = exc
-        return line
+    if raw.isascii() and "(" not in raw and ";" not in raw and ")" not in raw:
+        text = raw.replace(" ", "")
+        if "\t" in text or "\r" in text:
+            text = text.replace("\t", "").replace("\r", "")
+        text = text.lower()
+    else:
+        try:
+            text = reduce_line(raw)
+        except NgcError as exc:
+            line.skip_error = exc
+            return line
     if text == "%":
         line.percent = True
         return line
     if not text:
         line.blank = True
         return line
-    simple = _SIMPLE.fullmatch(text)
-    if simple and text[0] != "n":
-        line.items = [("w", m.group(1), float(m.group(2)), 0) for m in _SIMPLE_WORD.finditer(text)]
+    if text[0] != "n" and _SIMPLE.fullmatch(text):
+        found = line.found = _SIMPLE_WORD.findall(text)
         line.const = True
+        d = dict(found)
+        if len(d) == len(found) and d.keys() <= _SIMPLE_LETTERS:
+            g = d.pop("g", None)
+            f = d.get("f")
+            if (g is None or g in _G01) and (f is None or f[0] != "-"):
+                line.simple = True
+                words = {k: float(v) for k, v in d.items()}
+                line.fast = (-1 if g is None else (0 if float(g) == 0.0 else 10), words)
         return line
     _parse_items(line, text)
+    line.simple = _is_simple(line)
+    if line.error is None and line.o is None and line.items and all(
+            it[0] in "pn" for it in line.items):
+        line.assign = True
     return line
+
+
+_G01 = frozenset(("0", "1", "00", "01", "0.", "1.", "0.0", "1.0", "000", "001"))
+
+
+_SIMPLE_LETTERS = frozenset("gxyzabcf")
+
+
+def _is_simple(line: Line) -> bool:
+    if line.error is not None or line.o is not None or line.slash or not line.items:
+        return False
+    seen = set()
+    for item in line.items:
+        if item[0] != "w":
+            return False
+        letter = item[1]
+        if letter not in _SIMPLE_LETTERS or letter in seen:
+            return False
+        seen.add(letter)
+        if letter == "g" and item[2] not in (0.0, 1.0):
+            return False
+        if letter == "f" and type(item[2]) is float and item[2] < 0.0:
+            return False
+    return True
 
 
 def _parse_items(line: Line, text: str) -> None:
@@ -200,7 +260,7 @@ def _parse_items(line: Line, text: str) -> None:
         line.error = NgcError("unsupported", reader.col(pos),
                               what="Fanuc-style subroutine (M98/M99)")
         return
-    items = line.items
+    items = line.items = []
     try:
         while pos < len(text):
             pos = _item(reader, pos, items)

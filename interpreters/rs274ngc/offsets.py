@@ -30,6 +30,7 @@ class OffsetMixin:
         self.out.select_tool(tool)
         self.s.selected_pocket = index
         self.s.selected_tool = tool
+        self.s.t_seen = True
 
     def convert_tool_change(self) -> None:
         s = self.s

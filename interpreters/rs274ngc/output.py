@@ -41,13 +41,18 @@ class Output:
         self.nlabel = "N..... "
         self.src = SourceRef("<init>", 1)
         self.axes = dict(axes)
+        self._xyz = list(self.axes) == ["X", "Y", "Z"]
+        #: rotary axes (A B C) a non-strict control accepts; they join the canonical axes
+        #: from the first time the program moves them
         self.extra_axes: set[str] = set()
+        self.extra_used: set[str] = set()
         # world model (saicanon): its idea of the position, in program units, knows
         # nothing of rotation or tool offsets; the interpreter re-reads it after M6/M61
         self.ppos = [0.0] * 6
         self.unit = 1.0  # mm per program unit
         self.g5x = [0.0] * 6
         self.g92 = [0.0] * 6
+        self.abc_zero = True
         self.rotation = 0.0
         self.mode = "continuous"
         self.tolerance = 0.0
@@ -69,19 +74,27 @@ class Output:
     def machine(self, p) -> dict[str, float]:
         """Program coordinates (x y z a b c) -> machine axis values in mm / degrees."""
         u = self.unit
-        x = p[0] + self.g92[0]
-        y = p[1] + self.g92[1]
+        g92 = self.g92
+        g5x = self.g5x
+        x = p[0] + g92[0]
+        y = p[1] + g92[1]
         if self.rotation:
             t = math.radians(self.rotation)
             x, y = x * math.cos(t) - y * math.sin(t), x * math.sin(t) + y * math.cos(t)
+        if self._xyz and not self.extra_used and not (p[3] or p[4] or p[5]) and self.abc_zero:
+            return {"X": (x + g5x[0]) * u, "Y": (y + g5x[1]) * u,
+                    "Z": (p[2] + g92[2] + g5x[2]) * u}
         out = dict(self.axes)
-        out["X"] = (x + self.g5x[0]) * u
-        out["Y"] = (y + self.g5x[1]) * u
-        out["Z"] = (p[2] + self.g92[2] + self.g5x[2]) * u
+        out["X"] = (x + g5x[0]) * u
+        out["Y"] = (y + g5x[1]) * u
+        out["Z"] = (p[2] + g92[2] + g5x[2]) * u
         for i in (3, 4, 5):
             name = _LETTERS[i]
-            if name in out or name in self.extra_axes:
-                out[name] = p[i] + self.g92[i] + self.g5x[i]
+            if name in out or (name in self.extra_axes and p[i] + g92[i] + g5x[i] != 0.0):
+                out[name] = p[i] + g92[i] + g5x[i]
+                self.extra_used.add(name)
+            elif name in self.extra_used:
+                out[name] = p[i] + g92[i] + g5x[i]
         return out
 
     def _frame(self) -> None:
@@ -111,6 +124,7 @@ class Output:
             self._p("SET_G5X_OFFSET(%d, %.4f, %.4f, %.4f, %.4f, %.4f, %.4f)" % (index, *v[:6]))
         self.ppos = [self.ppos[i] + self.g5x[i] - v[i] for i in range(6)]
         self.g5x = list(v[:6])
+        self.abc_zero = not any(self.g5x[3:]) and not any(self.g92[3:])
         self._frame()
 
     def set_g92_offset(self, v) -> None:
@@ -118,6 +132,7 @@ class Output:
             self._p("SET_G92_OFFSET(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)" % tuple(v[:6]))
         self.ppos = [self.ppos[i] + self.g92[i] - v[i] for i in range(6)]
         self.g92 = list(v[:6])
+        self.abc_zero = not any(self.g5x[3:]) and not any(self.g92[3:])
         self._frame()
 
     def set_xy_rotation(self, r: float) -> None:

@@ -148,9 +148,12 @@ class Settings:
         self.control = "continuous"
         self.tolerance = 0.0
         self.naivecam = 0.0
-        self.current_pocket = 0  # index in the tool table of the loaded tool
-        self.selected_pocket = -1
-        self.selected_tool = -1
+        # rs274's simulated machine starts with pocket 1 "loaded" (saicanon _active_slot = 1)
+        # but nothing in the spindle entry, and tool 0 prepared
+        self.current_pocket = 1
+        self.selected_pocket = 0
+        self.selected_tool = 0
+        self.t_seen = False
         self.toolchange_flag = False
         self.offset_h = 0
 
