@@ -331,12 +331,9 @@ class ExecuteMixin:
         s.spindle = "stop"
         out.set_spindle_mode()
         s.motion = 10
-        if s.mist:
-            out.coolant(mist=False)
-            s.mist = False
-        if s.flood:
-            out.coolant(flood=False)
-            s.flood = False
+        if s.mist or s.flood:
+            out.coolant(mist=False if s.mist else None, flood=False if s.flood else None)
+            s.mist = s.flood = False
         if code == 30:
             out.simple("PALLET_SHUTTLE")
         out.program_end("M30" if code == 30 else "M2")

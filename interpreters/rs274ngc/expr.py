@@ -271,15 +271,18 @@ class Reader:
 
     def parameter(self, pos: int) -> tuple[Value, int]:
         s = self.text
+        col = self.col(pos)
         pos += 1
         if pos < len(s) and s[pos] == "<":
             name, pos = self.name(pos)
-            return (lambda ctx: ctx.named(name)), pos
+            return (lambda ctx: _read(ctx.named, name, col)), pos
         index, pos = self.integer(pos)
         if type(index) is float:
             i = int(index)
-            return (lambda ctx: ctx.par(i)), pos
-        return (lambda ctx: ctx.par(int(index(ctx)))), pos
+            if 1 <= i < 5602:
+                return (lambda ctx: ctx.par(i)), pos
+            return (lambda ctx: _read(ctx.par, i, col)), pos
+        return (lambda ctx: _read(ctx.par, int(index(ctx)), col)), pos
 
     # -- unary functions -----------------------------------------------------------------
 
@@ -374,6 +377,15 @@ class Reader:
             ops.append(op)
             op, pos = self.operator(pos)
         return _build(values, ops, start_col), pos
+
+
+def _read(fn, key, col):
+    try:
+        return fn(key)
+    except NgcError as exc:
+        if not exc.column:
+            exc.column = col
+        raise
 
 
 def _call(fn, x, col):

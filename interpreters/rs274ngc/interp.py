@@ -206,7 +206,10 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
             fast = line.fast
             if fast is not None and self.fast_move(fast):
                 continue
-            if self.step(line) == END:
+            status = self.step(line)
+            if out.spindle_dirty:
+                out.flush()
+            if status == END:
                 return
 
     def end_of_file(self) -> None:

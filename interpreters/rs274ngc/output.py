@@ -61,6 +61,13 @@ class Output:
         self.direction = "stop"
         self.mist = False
         self.flood = False
+        # what the canonical stream last said, per kind of state: state commands are
+        # emitted when the state changes, spindle changes once per block (S and M3 together)
+        self.said: dict[str, object] = {
+            "plane": 170, "feed_mode": "per_minute", "coolant": "off",
+            "spindle": (0.0, "stop"), "frame": ((0.0,) * 6, 0.0, 1.0),
+        }
+        self.spindle_dirty = False
 
     # -- plumbing -------------------------------------------------------------------------
 
@@ -69,7 +76,18 @@ class Output:
         self.lines.append(f"{self.count:5d} {self.nlabel}{body}")
 
     def _c(self, cmd: vc.Command) -> None:
+        if self.spindle_dirty:
+            self.flush()
         self.commands.append(cmd)
+
+    def flush(self) -> None:
+        """Emit a pending spindle change (called at the end of every block)."""
+        self.spindle_dirty = False
+        state = (self.speed, self.direction)
+        if self.want and self.said["spindle"] != state:
+            self.said["spindle"] = state
+            self.commands.append(vc.Spindle(self.src, spindle=1, speed=self.speed,
+                                            direction=self.direction))
 
     def machine(self, p) -> dict[str, float]:
         """Program coordinates (x y z a b c) -> machine axis values in mm / degrees."""
@@ -100,9 +118,14 @@ class Output:
     def _frame(self) -> None:
         if not self.want:
             return
+        origin = self.machine([0.0] * 6)
+        key = (tuple(origin.get(a, 0.0) for a in _LETTERS), self.rotation, self.unit)
+        if self.said["frame"][:2] == key[:2]:
+            return
+        self.said["frame"] = key
         t = math.radians(self.rotation)
         c, s = math.cos(t), math.sin(t)
-        self._c(vc.SetFrame(self.src, origin=self.machine([0.0] * 6),
+        self._c(vc.SetFrame(self.src, origin=origin,
                             rotation=(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)))
 
     # -- setup calls ----------------------------------------------------------------------
@@ -172,14 +195,16 @@ class Output:
     def select_plane(self, plane: int) -> None:
         if self.trace:
             self._p("SELECT_PLANE(CANON_PLANE_%s)" % PLANE_NAMES[plane])
-        if self.want:
+        if self.want and self.said["plane"] != plane:
+            self.said["plane"] = plane
             self._c(vc.PlaneSelect(self.src, plane=PLANE_AXES[plane]))
 
     def set_feed_mode(self, mode: int, interp_mode: int) -> None:
         if self.trace:
             self._p("SET_FEED_MODE(0, %d)" % mode)
-        if self.want:
-            name = ("per_minute", "inverse_time", "per_rev")[interp_mode]
+        name = ("per_minute", "inverse_time", "per_rev")[interp_mode]
+        if self.want and self.said["feed_mode"] != name:
+            self.said["feed_mode"] = name
             self._c(vc.FeedMode(self.src, mode=name))
 
     def set_feed_rate(self, rate: float) -> None:
@@ -242,8 +267,7 @@ class Output:
     # -- spindle, coolant ------------------------------------------------------------------
 
     def _spindle(self) -> None:
-        if self.want:
-            self._c(vc.Spindle(self.src, spindle=1, speed=self.speed, direction=self.direction))
+        self.spindle_dirty = self.want
 
     def set_spindle_speed(self, speed: float) -> None:
         if self.trace:
@@ -271,9 +295,10 @@ class Output:
             if self.trace:
                 self._p("FLOOD_ON()" if flood else "FLOOD_OFF()")
             self.flood = flood
-        if self.want:
-            mode = ("mist+flood" if self.flood else "mist") if self.mist else (
-                "flood" if self.flood else "off")
+        mode = ("mist+flood" if self.flood else "mist") if self.mist else (
+            "flood" if self.flood else "off")
+        if self.want and self.said["coolant"] != mode:
+            self.said["coolant"] = mode
             self._c(vc.Coolant(self.src, mode=mode))
 
     def overrides(self, enable: bool) -> None:
