@@ -10,7 +10,7 @@ import pytest
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
 from vmach.stock.sweep import hull_overcut, plan, scallop_bound
-from vmach.tooling import Tool, frames, place, tool_solid
+from vmach.tooling import frames, place, tool_solid
 from vmach.tooling.solid import straddle_radius
 
 

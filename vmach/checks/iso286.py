@@ -14,9 +14,11 @@ Computed from the standard's formulas, not copied tables:
   The other limit is the first ∓ IT of the grade.
 - Holes F, G, H: EI = −es of the shaft of the same letter (F, G) or 0 (H), ES = EI + IT; JS ±IT/2.
 - Rounding (applied to IT values and fundamental deviations, µm): to 1 µm up to 100 µm, then
-  to 5 µm up to 200 µm, to 10 µm up to 1000 µm, to 50 µm above. For the classes supported here
-  in the P3G range (14–100 mm, grades 5–8) this reproduces the printed tables; the standard's
-  tables remain authoritative where they differ (large grades and sizes).
+  to 5 µm up to 200 µm, to 10 µm up to 1000 µm, to 50 µm above. This reproduces the printed
+  IT6 values and the g6, k6, h6, m6, n6, f7, H7 limits of the P3G sizes (14–100 mm) exactly; a
+  few other printed values differ by 1 µm (IT7 10–18 mm: formula 17, table 18; IT6 3–6 mm:
+  7, table 8) or,
+  above 100 µm, by one rounding step. The standard's printed tables remain authoritative.
 
 Letters whose formulas need the standard's tabulated corrections (a–e, j, p–zc, holes K–ZC)
 are not offered: asking for them is an :class:`~vmach.errors.InputError`.

@@ -158,9 +158,10 @@ def densify(contour: np.ndarray, spacing: float = SAMPLE_SPACING) -> np.ndarray:
 
 def best_phase(profile: Polygon, samples: Sequence[np.ndarray]) -> float:
     """Phase (radians) turning the nominal profile to the least RMS deviation of ``samples``."""
-    pts = np.concatenate([s for s in samples if len(s)]) if samples else np.zeros((0, 2))
-    if len(pts) == 0:
+    found = [s for s in samples if len(s)]
+    if not found:
         return 0.0
+    pts = np.concatenate(found)
     sub = pts[:: max(1, len(pts) // 1000)]
     fine = pts[:: max(1, len(pts) // 5000)]
     period = 2 * math.pi / profile.lobes
