@@ -58,7 +58,7 @@ def test_run_format_json(capsys):
     assert first_move["axes"] == {"X": 10.0, "Y": 20.0, "Z": -5.0}  # G0 X0 Y0 Z0 in G54
     assert first_move["line"] == 4
     assert rows[-1] == {"kind": "program_end", "file": str(FIXTURES / "g10_l2_l20.ngc"),
-                        "line": 12, "code": "M2"}
+                        "line": 11, "code": "M2"}
 
 
 def test_run_text_format(capsys):
