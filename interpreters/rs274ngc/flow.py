@@ -21,6 +21,8 @@ from interpreters.rs274ngc.expr import evaluate
 from interpreters.rs274ngc.lexer import n_label
 
 _SAFE_NAME = re.compile(r"[a-z0-9_][a-z0-9_.\-]*")
+#: LinuxCNC runs the main program and at most 9 nested calls (INTERP_SUB_ROUTINE_LEVELS)
+MAX_CALL_LEVELS = 10
 
 
 class Frame:
@@ -123,7 +125,7 @@ class FlowMixin:
 
     def o_call(self, line, o):
         args = [evaluate(a, self) for a in o.args]
-        if len(self.frames) > self.options.max_call_depth:
+        if len(self.frames) >= min(self.options.max_call_depth, MAX_CALL_LEVELS):
             raise NgcError("call_depth", o.col)
         prog, index = self.find_sub(line, o)
         saved = self.pars.num[1:31]
