@@ -89,6 +89,9 @@ class FlowMixin:
             if line.skip_error is not None:
                 self.pc = pc
                 raise line.skip_error
+            if line.o_error:
+                self.pc = pc
+                raise line.error
             o = line.o
             if o is None:
                 continue

@@ -84,6 +84,8 @@ class Line:
     fast: tuple | None = None
     #: only parameter settings (``#1 = [#1 + 1]``)
     assign = False
+    #: an O-word line whose error LinuxCNC reports even when the line is skipped
+    o_error = False
 
     def __init__(self, number: int, raw: str):
         self.number = number
@@ -208,6 +210,10 @@ def parse_line(number: int, raw: str) -> Line:
     return line
 
 
+_O_SKIP_ERRORS = frozenset((
+    "unknown_o_command", "named_parameter_unterminated", "non_integer", "bad_number",
+    "bad_number_trailing", "missing_value",
+))
 _G01 = frozenset(("0", "1", "00", "01", "0.", "1.", "0.0", "1.0", "000", "001"))
 
 
@@ -255,6 +261,8 @@ def _parse_items(line: Line, text: str) -> None:
             line.o = _o_line(reader, pos)
         except NgcError as exc:
             line.error = exc
+            # errors LinuxCNC reports even while skipping: the label or the command itself
+            line.o_error = exc.kind in _O_SKIP_ERRORS
         return
     if text[pos] == "m" and _is_fanuc_sub(reader, pos):
         line.error = NgcError("unsupported", reader.col(pos),

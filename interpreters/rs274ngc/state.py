@@ -110,9 +110,9 @@ def read_tool_table(path: str | Path) -> ToolTable:
                 elif key == "Q":
                     t.orientation = int(val)
             except ValueError:
-                raise NgcError("tool_table", text=raw) from None
+                continue  # rs274 ignores a value it cannot read
         if number is None or pocket is None:
-            raise NgcError("tool_table", text=raw)
+            continue  # and a line without tool or pocket number
         t.number, t.pocket = number, pocket
         tools.append(t)
     return ToolTable(tools)
