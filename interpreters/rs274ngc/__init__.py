@@ -41,7 +41,9 @@ def _interpret(path, control, options, extra, trace: bool, commands: bool):
     out = Output(trace, commands, _axes(control))
     table = extra.get("tool_table")
     try:
-        tools = read_tool_table(table) if table else default_tool_table()
+        # rs274 prints its notes on the tool table before anything else
+        tools = read_tool_table(table, out.lines if trace else None) if table else (
+            default_tool_table())
     except NgcError as exc:
         f = error(exc.kind, exc.message, SourceRef(str(table), 1))
         return out, RunResult([], [f], False, 0)

@@ -29,7 +29,7 @@ class ExecuteMixin:
         m = block.m
         if g or m:
             self._check_supported(block)
-        if block.comment is not None:
+        if block.comment:  # LinuxCNC skips an empty comment "()"
             self.convert_comment(block.comment)
         words = block.words
         s = self.s

@@ -8,6 +8,7 @@ Units follow LinuxCNC: positions and offsets the interpreter keeps are in *progr
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -79,41 +80,62 @@ def default_tool_table() -> ToolTable:
     return ToolTable([Tool(t.number, t.pocket, list(t.offset), t.diameter) for t in DEFAULT_TOOLS])
 
 
-def read_tool_table(path: str | Path) -> ToolTable:
-    """A LinuxCNC tool table (``T1 P1 Z0.5 D0.25 ;comment``), values in inches."""
+_INT_PREFIX = re.compile(r"\s*[+-]?\d+")
+_FLOAT_PREFIX = re.compile(r"\s*[+-]?(?:\d+\.?\d*(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?|inf|nan)",
+                           re.IGNORECASE)
+
+
+def read_tool_table(path: str | Path, notes: list[str] | None = None) -> ToolTable:
+    """A LinuxCNC 2.9 tool table (``T1 P1 Z0.5 D0.25 ;comment``), values in inches.
+
+    Read as LinuxCNC's tool data loader reads it: words are separated by blanks, numbers are
+    read like C's ``sscanf`` (the longest numeric prefix), a line with a word it cannot read
+    is skipped with the note rs274 prints (appended to ``notes``), a line without P keeps its
+    place in the table but cannot be found by its tool number.
+    """
     try:
         text = Path(path).read_text(encoding="utf-8", errors="replace")
     except OSError as exc:
         raise NgcError("unreadable", path=str(path), reason=exc.strerror or str(exc)) from None
     tools: list[Tool] = []
-    for raw in text.splitlines():
-        body = raw.split(";", 1)[0].strip()
-        if not body:
+    for raw in text.splitlines(keepends=True):
+        body = raw.split(";", 1)[0]
+        tokens = [t for t in body.split(" ") if t and t != "\n"]
+        if not [t for t in tokens if t.strip()]:
             continue
-        number = pocket = None
         t = Tool(-1, -1)
-        for tok in body.split():
+        valid = True
+        pocket = None
+        for tok in tokens:
             key, val = tok[0].upper(), tok[1:]
-            try:
-                if key == "T":
-                    number = int(val)
-                elif key == "P":
-                    pocket = int(val)
-                elif key in "XYZABCUVW":
-                    t.offset["XYZABCUVW".index(key)] = float(val)
-                elif key == "D":
-                    t.diameter = float(val)
-                elif key == "I":
-                    t.frontangle = float(val)
-                elif key == "J":
-                    t.backangle = float(val)
-                elif key == "Q":
-                    t.orientation = int(val)
-            except ValueError:
-                continue  # rs274 ignores a value it cannot read
-        if number is None or pocket is None:
-            continue  # and a line without tool or pocket number
-        t.number, t.pocket = number, pocket
+            m = (_INT_PREFIX if key in "TPQ" else _FLOAT_PREFIX).match(val)
+            if key not in "TPDXYZABCUVWIJQ" or m is None:
+                valid = False
+                continue
+            v = m.group()
+            if key == "T":
+                t.number = int(v)
+            elif key == "P":
+                pocket = int(v)
+            elif key == "Q":
+                t.orientation = int(v)
+            elif key == "D":
+                t.diameter = float(v)
+            elif key == "I":
+                t.frontangle = float(v)
+            elif key == "J":
+                t.backangle = float(v)
+            else:
+                t.offset["XYZABCUVW".index(key)] = float(v)
+        if not valid:
+            if notes is not None:
+                line = raw if raw.endswith("\n") else raw + "\n"
+                notes.append(f"File: {path} Unrecognized line skipped:")
+                notes.append("    " + line.rstrip("\n"))
+            continue
+        if pocket is None:
+            t.number = -1  # LinuxCNC keeps the entry's place but not its tool number
+        t.pocket = pocket if pocket is not None else -1
         tools.append(t)
     return ToolTable(tools)
 
