@@ -109,6 +109,7 @@ def read_block(line: Line, ctx) -> Block:
                 v = item[2] if type(item[2]) is float else item[2](ctx)
                 block.settings.append((i, v))
         elif tag == "n":
+            ctx.declare_named(item[1])
             v = item[2] if type(item[2]) is float else item[2](ctx)
             block.named.append((item[1], v))
     if line.error is not None:

@@ -43,8 +43,8 @@ def check_program(path: str, control: ControlSpec) -> list[Finding]:
         if line.skip_error is not None:
             report(i, line.skip_error)
             continue
-        if line.o is None and line.error is not None:
-            report(i, _with_column(line, line.error))
+        if line.error is not None:
+            report(i, line.error)
         if line.o is not None or line.blank or line.percent:
             continue
         b = blk.Block(line)
@@ -89,10 +89,6 @@ def _item_col(line, k: int) -> int:
     from interpreters.rs274ngc.lexer import item_column
 
     return item_column(line, k)
-
-
-def _with_column(line, exc: NgcError) -> NgcError:
-    return exc
 
 
 def _check_structure(prog: Program, directory: Path) -> list[Finding]:

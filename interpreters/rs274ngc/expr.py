@@ -57,8 +57,8 @@ def _div(a: float, b: float) -> float:
 
 
 def _mod(a: float, b: float) -> float:
-    if b == 0.0:
-        return math.nan  # fmod(x, 0) is NaN in C; reported by the NaN check
+    if b == 0.0 or a in (math.inf, -math.inf) or a != a or b != b:
+        return math.nan  # fmod(x, 0), fmod(inf, y) are NaN in C; reported by the NaN check
     r = math.fmod(a, b)
     if r < 0.0:
         r += abs(b)
@@ -70,10 +70,11 @@ def _pow(a: float, b: float) -> float:
         raise NgcError("negative_power")
     try:
         return math.pow(a, b)
-    except OverflowError:
-        return math.inf
-    except ValueError:
-        return math.nan
+    except (OverflowError, ValueError):
+        # C's pow: 0 to a negative power and overflows are infinite (odd powers keep the sign)
+        odd = b == math.floor(b) and math.fmod(b, 2.0) != 0.0
+        negative = math.copysign(1.0, a) < 0 and odd
+        return -math.inf if negative else math.inf
 
 
 def _eq(a, b):
@@ -146,14 +147,28 @@ def _round(x):
     return float(int(x + (-0.5 if x < 0.0 else 0.5)))
 
 
+def _abs(x):
+    return -x if x < 0.0 else x  # as LinuxCNC: ABS[-0] stays -0
+
+
+def _floor(x):  # C's floor and ceil keep the sign of a zero result: FUP[-0.2] is -0
+    r = float(math.floor(x))
+    return math.copysign(r, x) if r == 0.0 else r
+
+
+def _ceil(x):
+    r = float(math.ceil(x))
+    return math.copysign(r, x) if r == 0.0 else r
+
+
 UNARY: dict[str, Callable[[float], float]] = {
-    "abs": abs,
+    "abs": _abs,
     "acos": _acos,
     "asin": _asin,
     "cos": cos_deg,
     "exp": _exp,
-    "fix": lambda x: float(math.floor(x)),
-    "fup": lambda x: float(math.ceil(x)),
+    "fix": _floor,
+    "fup": _ceil,
     "ln": _ln,
     "round": _round,
     "sin": sin_deg,
@@ -206,11 +221,28 @@ class Reader:
     cols : 1-based source column of each character of ``text`` (for diagnostics).
     """
 
-    __slots__ = ("text", "cols")
+    __slots__ = ("text", "cols", "defer", "deferred")
 
     def __init__(self, text: str, cols: list[int]):
         self.text = text
         self.cols = cols
+        self.defer = False
+        self.deferred = None
+
+    # With ``defer`` set (O-lines, whose conditions LinuxCNC may read while skipping), an
+    # error met while folding constants is kept in the value, raised when it is evaluated;
+    # the first one is remembered in ``deferred`` (it precedes later syntax errors).
+
+    def _failed(self, exc: NgcError) -> Value:
+        if not self.defer:
+            raise exc
+        if self.deferred is None:
+            self.deferred = exc
+
+        def fail(ctx):
+            raise exc
+
+        return fail
 
     def col(self, pos: int) -> int:
         if pos < len(self.cols):
@@ -257,7 +289,10 @@ class Reader:
         v, end = self.real_value(pos)
         col = self.col(pos)
         if type(v) is float:
-            return float(to_integer(v, col)), end
+            try:
+                return float(to_integer(v, col)), end
+            except NgcError as exc:
+                return self._failed(exc), end
         return (lambda ctx, f=v: float(to_integer(f(ctx), col))), end
 
     # -- parameters ----------------------------------------------------------------------
@@ -323,7 +358,7 @@ class Reader:
                 return checked(fn(arg)), pos
             except NgcError as exc:
                 exc.column = col
-                raise
+                return self._failed(exc), pos
         return (lambda ctx: _call(fn, arg(ctx), col)), pos
 
     def exists(self, pos: int) -> tuple[Value, int]:
@@ -364,19 +399,43 @@ class Reader:
         raise self.error("unknown_operation_name", pos, char=c)
 
     def expression(self, pos: int) -> tuple[Value, int]:
-        """``[ ... ]`` starting at ``pos`` (which holds ``[``)."""
+        """``[ ... ]`` starting at ``pos`` (which holds ``[``).
+
+        As LinuxCNC's read_real_expression (a shunting-yard), an operation is applied as
+        soon as the operator after it is read and does not bind tighter, so errors come in
+        LinuxCNC's order: constants are folded then, non-constant operands give a function
+        that evaluates in that same order.
+        """
         start_col = self.col(pos)
-        values = []
-        ops = []
         v, pos = self.real_value(pos + 1)
-        values.append(v)
-        op, pos = self.operator(pos)
-        while op != "]":
+        values = [v]
+        ops: list[str] = []
+        while True:
+            op, pos = self.operator(pos)
+            prec = 0 if op == "]" else BINARY[op][0]
+            while ops and prec <= BINARY[ops[-1]][0]:
+                b = values.pop()
+                a = values.pop()
+                fn = BINARY[ops.pop()][1]
+                try:
+                    values.append(_combine(fn, a, b, start_col))
+                except NgcError as exc:
+                    values.append(self._failed(exc))
+            if op == "]":
+                break
+            ops.append(op)
             v, pos = self.real_value(pos)
             values.append(v)
-            ops.append(op)
-            op, pos = self.operator(pos)
-        return _build(values, ops, start_col), pos
+        tree = values[0]
+        # LinuxCNC checks for NaN/infinity after each value it reads, a bracketed
+        # expression being one value; intermediate results may be NaN ([1 MOD 0 GT 1] is 0)
+        if type(tree) is float:
+            try:
+                return checked(tree), pos
+            except NgcError as exc:
+                exc.column = start_col
+                return self._failed(exc), pos
+        return (lambda ctx: _check_at(tree(ctx), start_col)), pos
 
 
 def _read(fn, key, col):
@@ -407,23 +466,6 @@ def to_integer(x: float, col: int = 0) -> int:
     return int(i)
 
 
-def _build(values: list, ops: list[str], col: int) -> Value:
-    """Fold a flat ``v0 op0 v1 op1 v2 ...`` into a tree by precedence, left associative."""
-
-    def climb(lhs, k: int, min_prec: int):
-        # ops[k] sits between values[k] and values[k + 1]
-        while k < len(ops) and BINARY[ops[k]][0] >= min_prec:
-            prec, fn = BINARY[ops[k]]
-            rhs = values[k + 1]
-            k += 1
-            while k < len(ops) and BINARY[ops[k]][0] > prec:
-                rhs, k = climb(rhs, k, BINARY[ops[k]][0])
-            lhs = _combine(fn, lhs, rhs, col)
-        return lhs, k
-
-    return climb(values[0], 0, 0)[0]
-
-
 def _combine(fn, a: Value, b: Value, col: int) -> Value:
     if type(a) is float and type(b) is float:
         return _apply(fn, a, b, col)
@@ -436,8 +478,16 @@ def _combine(fn, a: Value, b: Value, col: int) -> Value:
 
 def _apply(fn, a: float, b: float, col: int) -> float:
     try:
-        return checked(fn(a, b))
+        return fn(a, b)
     except NgcError as exc:
         if not exc.column:
             exc.column = col
         raise
+    except OverflowError:
+        return math.inf
+
+
+def _check_at(x: float, col: int) -> float:
+    if x != x or x in (math.inf, -math.inf):
+        raise NgcError("not_a_number" if x != x else "infinity", col)
+    return x

@@ -29,6 +29,7 @@ class FastPathMixin:
                     key = i
                 else:
                     key = item[1]
+                    self.declare_named(key)
                 v = item[2]
                 values.append((key, v if type(v) is float else v(self)))
         except NgcError as exc:

@@ -2,7 +2,8 @@
 
 Labels (``o100``, ``o<name>``) of sub/endsub/call/return are global; the others are local to
 the subroutine they appear in. A block that is not taken is *skipped*: lines are read up to
-the next O-word with the same label of an expected kind, and nothing on them is evaluated.
+the next O-word with the same label of an expected kind; only the conditions of O-words of
+that label are evaluated on the way, as LinuxCNC reads them (errors included).
 
 Subroutines are found, in this order: already defined (a ``sub`` met earlier, which is then
 skipped up to its ``endsub``), the file ``<name>.ngc`` in the directory of the main program
@@ -23,6 +24,7 @@ from interpreters.rs274ngc.lexer import n_label
 _SAFE_NAME = re.compile(r"[a-z0-9_][a-z0-9_.\-]*")
 #: LinuxCNC runs the main program and at most 9 nested calls (INTERP_SUB_ROUTINE_LEVELS)
 MAX_CALL_LEVELS = 10
+_CONDITIONS = frozenset(("if", "elseif", "while", "repeat"))
 
 
 class Frame:
@@ -51,13 +53,49 @@ class FlowMixin:
         self.frames: list[Frame] = [Frame()]
         self.subs: dict[str, tuple] = {}  # name -> (Program, line index of the sub line)
         self.seeking: tuple | None = None
+        self.test_value = 0.0  # the condition or return value of the O-line last read
+        self.call_args: list[float] | tuple = ()
+        self.defining = False  # skipping a subroutine definition
 
     # -- dispatch -----------------------------------------------------------------------------
 
     def control(self, line):
+        """Execute an O-line: as LinuxCNC reads the whole line first, its condition or
+        arguments are evaluated (and may fail) before any check of the label."""
         o = line.o
+        if o.value_error is not None:
+            raise o.value_error
+        if o.value is not None:
+            self.test_value = evaluate(o.value, self)
+        elif o.args:
+            self.call_args = [evaluate(a, self) for a in o.args]
+        else:
+            self.call_args = ()
+        if o.trailing_error is not None:
+            raise o.trailing_error
         handler = getattr(self, "o_" + o.kind)
         return handler(line, o)
+
+    def read_skipped(self, line, o, name: str, defining: bool) -> None:
+        """What LinuxCNC evaluates of an O-line it reads while skipping to label ``name``:
+        the condition of an if/elseif/while/repeat of that label (not while skipping a
+        subroutine definition) and the value of that subroutine's endsub/return."""
+        if o.name != name:
+            return
+        kind = o.kind
+        if kind in _CONDITIONS:
+            if defining:
+                return
+        elif kind not in ("endsub", "return") or not defining:
+            return
+        if o.value_error is not None:
+            raise o.value_error
+        if o.value is not None:
+            self.defining = defining
+            try:
+                self.test_value = evaluate(o.value, self)
+            finally:
+                self.defining = False
 
     def _check_label(self, line, o, kinds: tuple[str, ...]) -> None:
         labels = self.frames[-1].labels
@@ -77,7 +115,11 @@ class FlowMixin:
         labels[o.name] = (kind, self.index)
 
     def skip_to(self, name: str, kinds: tuple[str, ...], nested_sub: bool = False):
-        """Read lines without executing them up to O-word ``name`` of one of ``kinds``."""
+        """Read lines without executing them up to O-word ``name`` of one of ``kinds``.
+
+        As LinuxCNC reads every O-word of the label it skips to, the conditions of that
+        label's lines are evaluated on the way (and may fail; see :meth:`read_skipped`).
+        """
         prog = self.prog
         n = len(prog.raw)
         pc = self.pc
@@ -89,7 +131,7 @@ class FlowMixin:
             if line.skip_error is not None:
                 self.pc = pc
                 raise line.skip_error
-            if line.o_error:
+            if line.o_error and (line.o_error is True or not nested_sub):
                 self.pc = pc
                 raise line.error
             o = line.o
@@ -98,6 +140,9 @@ class FlowMixin:
             if nested_sub and o.kind == "sub":
                 self.pc = pc
                 raise NgcError("nested_sub_definition", o.col)
+            if o.name == name:
+                self.pc = pc
+                self.read_skipped(line, o, name, nested_sub)
             if o.name == name and o.kind in kinds:
                 self.pc = pc
                 out = self.out
@@ -127,7 +172,7 @@ class FlowMixin:
         self.skip_to(name, ("endsub",), nested_sub=True)
 
     def o_call(self, line, o):
-        args = [evaluate(a, self) for a in o.args]
+        args = self.call_args
         if len(self.frames) >= min(self.options.max_call_depth, MAX_CALL_LEVELS):
             raise NgcError("call_depth", o.col)
         prog, index = self.find_sub(line, o)
@@ -179,7 +224,7 @@ class FlowMixin:
         return self._return(line, o)
 
     def _return(self, line, o):
-        value = None if o.value is None else evaluate(o.value, self)
+        value = None if o.value is None else self.test_value
         if len(self.frames) == 1:
             if o.kind == "endsub":
                 raise NgcError("not_in_sub", line=line.number, text=line.raw.strip())
@@ -199,7 +244,7 @@ class FlowMixin:
     def o_if(self, line, o):
         self._open_label(line, o, "if")
         frame = self.frames[-1]
-        if evaluate(o.value, self) != 0.0:
+        if self.test_value != 0.0:
             frame.stack.append(["if", o.name, self.index, 0])
             return None
         while True:
@@ -207,11 +252,12 @@ class FlowMixin:
             kind = ln.o.kind
             if kind == "endif":
                 return None
-            if kind == "else" or evaluate(ln.o.value, self) != 0.0:
+            if kind == "else" or self.test_value != 0.0:
                 frame.stack.append(["if", o.name, self.index, 0])
                 return None
 
     def o_elseif(self, line, o):
+        """Reached after a taken branch (its condition was evaluated all the same)."""
         self._check_label(line, o, ("if",))
         self._pop(o.name)
         self.skip_to(o.name, ("endif",))
@@ -252,13 +298,13 @@ class FlowMixin:
         frame = self.frames[-1]
         entry = self._top(o.name)
         if entry is not None and entry[0] == "do":
-            if evaluate(o.value, self) != 0.0:
+            if self.test_value != 0.0:
                 self.pc = entry[2] + 1
             else:
                 self._pop(o.name)
             return None
         self._open_label(line, o, "while")
-        if evaluate(o.value, self) != 0.0:
+        if self.test_value != 0.0:
             if entry is None or entry[2] != self.index:
                 frame.stack.append(["while", o.name, self.index, 0])
             return None
@@ -277,7 +323,7 @@ class FlowMixin:
 
     def o_repeat(self, line, o):
         self._open_label(line, o, "repeat")
-        count = round(evaluate(o.value, self))
+        count = round(self.test_value)
         if count <= 0:
             self.skip_to(o.name, ("endrepeat",))
             return None

@@ -29,18 +29,22 @@ from vmach.findings import Finding, error
 from vmach.source import SourceRef
 
 END = 1
+MAX_LINE = 254  # LinuxCNC reads lines with fgets into LINELEN = 255 bytes
 
 
 class Program:
     """The lines of one file, parsed on first use."""
 
-    __slots__ = ("path", "raw", "lines", "refs")
+    __slots__ = ("path", "raw", "lines", "refs", "last_newline")
 
     def __init__(self, path: str, text: str):
         self.path = path
         self.raw = text.split("\n")
+        self.last_newline = True
         if self.raw and self.raw[-1] == "":
             self.raw.pop()
+        elif self.raw:
+            self.last_newline = False
         self.lines: list[Line | None] = [None] * len(self.raw)
         self.refs: list[SourceRef | None] = [None] * len(self.raw)
 
@@ -48,9 +52,18 @@ class Program:
         ln = self.lines[i]
         if ln is None:
             raw = self.raw[i]
+            # LinuxCNC reads lines with fgets(LINELEN = 255): 254 bytes with the newline fail
+            length = len(raw.encode("utf-8", "replace"))
+            if i < len(self.raw) - 1 or self.last_newline:
+                length += 1
             if raw.endswith("\r"):
                 raw = raw[:-1]
-            ln = self.lines[i] = parse_line(i + 1, raw)
+            if length >= MAX_LINE:
+                ln = Line(i + 1, raw)
+                ln.skip_error = NgcError("line_too_long")
+            else:
+                ln = parse_line(i + 1, raw)
+            self.lines[i] = ln
         return ln
 
     def ref(self, i: int, column: int = 1) -> SourceRef:
@@ -108,8 +121,16 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
     def named(self, name: str) -> float:
         v = self.named_value(name)
         if v is None:
+            if self.defining:  # LinuxCNC reads endsub values of a definition leniently
+                return 0.0
             raise NgcError("undefined_parameter", name=name)
         return v
+
+    def declare_named(self, name: str) -> None:
+        """LinuxCNC creates the parameter of ``#<name> = ...`` (as 0) when it reads the
+        line, before the value: ``#<a> = [#<a> + 1]`` works on an undefined #<a>."""
+        if self.named_value(name) is None:
+            self.pars.store_named(name, 0.0)
 
     def exists(self, name: str) -> bool:
         return self.named_value(name) is not None

@@ -43,7 +43,8 @@ class OLine:
     value : the condition of while/if/elseif/repeat, or the return value of endsub/return.
     """
 
-    __slots__ = ("kind", "name", "col", "args", "value", "comment")
+    __slots__ = ("kind", "name", "col", "args", "value", "comment", "value_error",
+                 "trailing_error")
 
     def __init__(self, kind, name, col, args=(), value=None, comment=None):
         self.kind = kind
@@ -52,6 +53,8 @@ class OLine:
         self.args = args
         self.value = value
         self.comment = comment
+        self.value_error = None  # a syntax error in the condition or the call arguments
+        self.trailing_error = None  # text after the O-word command
 
 
 class Line:
@@ -84,8 +87,9 @@ class Line:
     fast: tuple | None = None
     #: only parameter settings (``#1 = [#1 + 1]``)
     assign = False
-    #: an O-word line whose error LinuxCNC reports even when the line is skipped
-    o_error = False
+    #: an O-line whose label (True) or command ("kind") is wrong: LinuxCNC reports that
+    #: even when the line is skipped ("kind" not while a subroutine definition is skipped)
+    o_error: bool | str = False
 
     def __init__(self, number: int, raw: str):
         self.number = number
@@ -210,10 +214,6 @@ def parse_line(number: int, raw: str) -> Line:
     return line
 
 
-_O_SKIP_ERRORS = frozenset((
-    "unknown_o_command", "named_parameter_unterminated", "non_integer", "bad_number",
-    "bad_number_trailing", "missing_value",
-))
 _G01 = frozenset(("0", "1", "00", "01", "0.", "1.", "0.0", "1.0", "000", "001"))
 
 
@@ -257,23 +257,27 @@ def _parse_items(line: Line, text: str) -> None:
         line.blank = True
         return
     if text[pos] == "o":
+        reader.defer = True
         try:
-            line.o = _o_line(reader, pos)
+            _o_line(reader, pos, line)
         except NgcError as exc:
             line.error = exc
-            # errors LinuxCNC reports even while skipping: the label or the command itself
-            line.o_error = exc.kind in _O_SKIP_ERRORS
+            if line.o_error is False and exc.kind != "unsupported":
+                line.o_error = True  # errors in the label: LinuxCNC reports them even while skipping
         return
     if text[pos] == "m" and _is_fanuc_sub(reader, pos):
         line.error = NgcError("unsupported", reader.col(pos),
                               what="Fanuc-style subroutine (M98/M99)")
         return
     items = line.items = []
+    reader.defer = True
     try:
         while pos < len(text):
             pos = _item(reader, pos, items)
     except NgcError as exc:
         line.error = exc
+    if reader.deferred is not None:  # raised by its value, after the values before it
+        line.error = reader.deferred
     line.const = line.error is None and all(
         it[0] == "w" and type(it[2]) is float for it in items
     )
@@ -288,6 +292,8 @@ class _LazyReader(Reader):
         self.text = text
         self.raw = raw
         self._cols = None
+        self.defer = False
+        self.deferred = None
 
     @property
     def cols(self):  # type: ignore[override]
@@ -361,7 +367,13 @@ def _setting(reader: Reader, pos: int, items: list, col: int) -> int:
     return pos
 
 
-def _o_line(reader: Reader, pos: int) -> OLine:
+def _o_line(reader: Reader, pos: int, line: Line) -> None:
+    """Read an O-line as LinuxCNC's read_o does, in three stages whose errors LinuxCNC
+    reports at different times: the label and command (always, even while skipping:
+    ``line.error`` with ``line.o_error``), the condition or arguments (``o.value_error``,
+    also while skipping to this label) and the text after them (``o.trailing_error``, only
+    when the line is executed). Errors met while folding constants are deferred to the
+    evaluation of the value (the first one still precedes later syntax errors)."""
     text = reader.text
     col = reader.col(pos)
     pos += 1
@@ -369,36 +381,45 @@ def _o_line(reader: Reader, pos: int) -> OLine:
         name, pos = reader.name(pos)
     else:
         v, pos = reader.integer(pos)
+        if reader.deferred is not None:
+            raise reader.deferred
         if type(v) is not float:
             raise NgcError("unsupported", col, what="an O-word number computed from parameters")
         name = str(int(v))
     kind = next((k for k in O_KINDS if text.startswith(k, pos)), None)
     if kind is None:
         if pos >= len(text) or text[pos] in "(;":
+            line.o_error = False
             raise NgcError("unsupported", col, what="Fanuc-style O-word program number")
+        line.o_error = "kind"
         raise reader.error("unknown_o_command", pos)
     pos += len(kind)
-    o = OLine(kind, name, col)
-    if kind in ("while", "if", "elseif", "repeat"):
-        if pos >= len(text) or text[pos] != "[":
-            raise reader.error("o_bracket_missing", pos, what=kind)
-        o.value, pos = reader.expression(pos)
-    elif kind in ("endsub", "return"):
-        if pos < len(text) and text[pos] == "[":
+    o = line.o = OLine(kind, name, col)
+    try:
+        if kind in ("while", "if", "elseif", "repeat"):
+            if pos >= len(text) or text[pos] != "[":
+                raise reader.error("o_bracket_missing", pos, what=kind)
             o.value, pos = reader.expression(pos)
-    elif kind == "call":
-        args: list[Value] = []
-        while pos < len(text) and text[pos] in "[(":
-            if text[pos] == "(":
-                end = text.index(")", pos)
-                o.comment = text[pos + 1 : end]
-                pos = end + 1
-                continue
-            if len(args) >= 30:
-                raise reader.error("too_many_arguments", pos)
-            v, pos = reader.expression(pos)
-            args.append(v)
-        o.args = args
+        elif kind in ("endsub", "return"):
+            if pos < len(text) and text[pos] == "[":
+                o.value, pos = reader.expression(pos)
+        elif kind == "call":
+            args: list[Value] = []
+            o.args = args
+            while pos < len(text) and text[pos] in "[(":
+                if text[pos] == "(":
+                    end = text.index(")", pos)
+                    o.comment = text[pos + 1 : end]
+                    pos = end + 1
+                    continue
+                if len(args) >= 30:
+                    raise reader.error("too_many_arguments", pos)
+                v, pos = reader.expression(pos)
+                args.append(v)
+    except NgcError as exc:
+        o.value_error = reader.deferred or exc
+        line.error = o.value_error
+        return
     while pos < len(text):
         if text[pos] == ";":
             break
@@ -407,8 +428,11 @@ def _o_line(reader: Reader, pos: int) -> OLine:
             o.comment = text[pos + 1 : end]
             pos = end + 1
             continue
-        raise reader.error("text_after_o_word", pos)
-    return o
+        o.trailing_error = reader.error("text_after_o_word", pos)
+        line.error = reader.deferred or o.trailing_error
+        return
+    if reader.deferred is not None:
+        line.error = reader.deferred
 
 
 def item_column(line: Line, k: int) -> int:

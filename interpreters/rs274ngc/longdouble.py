@@ -16,10 +16,27 @@ from fractions import Fraction
 #: M_PIl as an 80-bit long double (64-bit mantissa)
 PI_L = Fraction(0xC90FDAA22168C235, 1 << 62)
 PI_2L = PI_L / 2
-_PI = Fraction(
-    "3.14159265358979323846264338327950288419716939937510582097494459230781640628620899863"
-)
-_HALF_PI = _PI / 2
+
+
+def _machin_pi(bits: int) -> Fraction:
+    """pi to ``bits`` bits (Machin's formula in integers; error below 2**-bits)."""
+    guard = bits + 32
+    one = 1 << guard
+
+    def arctan_inv(n: int) -> int:
+        total, term, k, n2 = 0, one // n, 1, n * n
+        while term:
+            total += term // k if k % 4 == 1 else -(term // k)
+            term //= n2
+            k += 2
+        return total
+
+    return Fraction(4 * (4 * arctan_inv(5) - arctan_inv(239)), one)
+
+
+_PI_BITS = 1400  # enough to reduce any double-sized argument exactly to double precision
+_PI_BIG = _machin_pi(_PI_BITS)
+_PI = Fraction(round(_PI_BIG * (1 << 300)), 1 << 300)  # for ordinary arguments
 
 
 def round_ld(q: Fraction) -> Fraction:
@@ -44,39 +61,80 @@ def round_ld(q: Fraction) -> Fraction:
     return sign * Fraction(whole) / scale
 
 
-def _reduce(a: Fraction, period: Fraction) -> tuple[int, float]:
+def _reduce(a: Fraction, halves: int) -> tuple[int, Fraction]:
+    """``a = k * (halves * pi / 2) + r`` with ``|r| <= halves * pi / 4``: (k, r)."""
+    pi = _PI if abs(a) < (1 << 200) else _PI_BIG
+    period = pi * halves / 2
     k = math.floor(a / period + Fraction(1, 2))
-    return k, float(a - k * period)
+    return k, a - k * period
 
 
 def sin_deg(x: float) -> float:
     """``sin((x * M_PIl) / 180.0)`` in long double, stored to double."""
     if not math.isfinite(x):
         return math.nan
+    if x == 0.0:
+        return x  # the sign of zero survives
     a = round_ld(round_ld(Fraction(x) * PI_L) / 180)
-    k, r = _reduce(a, _HALF_PI)
-    return (math.sin(r), math.cos(r), -math.sin(r), -math.cos(r))[k % 4]
+    k, q = _reduce(a, 1)
+    sin, cos, one = _sin_cos(q)
+    return (sin, cos, -sin, -cos)[k % 4] / one
 
 
 def cos_deg(x: float) -> float:
     if not math.isfinite(x):
         return math.nan
     a = round_ld(round_ld(Fraction(x) * PI_L) / 180)
-    k, r = _reduce(a, _HALF_PI)
-    return (math.cos(r), -math.sin(r), -math.cos(r), math.sin(r))[k % 4]
+    k, q = _reduce(a, 1)
+    sin, cos, one = _sin_cos(q)
+    return (cos, -sin, -cos, sin)[k % 4] / one
 
 
 def tan_deg(x: float) -> float:
     if not math.isfinite(x):
         return math.nan
+    if x == 0.0:
+        return x
     a = round_ld(round_ld(Fraction(x) * PI_L) / 180)
-    _, r = _reduce(a, _PI)
-    return math.tan(r)
+    _, r = _reduce(a, 2)
+    # tanl of the exact argument, with rationals well beyond double precision: in double,
+    # TAN[45] would be 0.9999999999999999 and TAN[90] (about -4e19) far off
+    if abs(r) <= Fraction(4, 5):
+        sin, cos, _ = _sin_cos(r)
+        return sin / cos
+    pi = _PI if abs(a) < (1 << 200) else _PI_BIG
+    sin, cos, _ = _sin_cos(pi / 2 - abs(r))  # tan(r) = cot(pi/2 - |r|), the complement exact
+    if not sin:
+        return math.inf
+    t = cos / sin
+    return t if r > 0 else -t
+
+
+def _sin_cos(x: Fraction) -> tuple[int, int, int]:
+    """sin(x) and cos(x) for |x| <= 1 in fixed point: (sin * one, cos * one, one), exact to
+    well beyond double precision, even for a tiny x (Taylor series)."""
+    bits = 256
+    if x:
+        bits += max(0, x.denominator.bit_length() - x.numerator.bit_length())
+    xs = round(x * (1 << bits))
+    sin = cos = 0
+    term = 1 << bits  # x**n / n!
+    n = 0
+    while term:
+        if n % 2 == 0:
+            cos += term if n % 4 == 0 else -term
+        else:
+            sin += term if n % 4 == 1 else -term
+        n += 1
+        term = (term * xs >> bits) // n
+    return sin, cos, 1 << bits
 
 
 def to_degrees(radians: float) -> float:
-    """``(radians * 180.0) / M_PIl`` in long double, stored to double."""
-    return float(round_ld(round_ld(Fraction(radians) * 180) / PI_L))
+    """``(radians * 180.0) / M_PIl``: the product in double, the quotient in long double."""
+    if radians == 0.0:
+        return radians * 180.0  # keeps the sign of zero (-0.0 prints as -0.0000)
+    return float(round_ld(Fraction(radians * 180.0) / PI_L))
 
 
 def minus_half_pi(x: float) -> float:

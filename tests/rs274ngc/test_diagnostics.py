@@ -40,6 +40,14 @@ RUNTIME = [
     ("G81 X1 Y1 Z-1 R2 F10\nG81 X2 R-2\nM2\n", ("cycle_r_below_bottom", 2, 1)),
     ("#5401 = 1\nM2\n", ("parameter_readonly", 1, 1)),
     ("G0 X1\nG10 L2 P10 X1\nM2\n", ("g10_p_range", 2, 1)),
+    # the elseif of a false if is read (its condition evaluated) while skipping to it
+    ("o1 if [0]\no1 elseif [SQRT[-3]]\no1 endif\nM2\n", ("sqrt_range", 2, 12)),
+    ("o1 if [1]\no1 elseif [1/0]\no1 endif\nM2\n", ("divide_by_zero", 2, 11)),
+    ("o1 sub\no1 endsub [1/0]\nM2\n", ("divide_by_zero", 2, 11)),
+    # constants fold in reading order: the non-constant ACOS fails first
+    ("#1 = 4\n#2 = [1 LT ACOS[#1] XOR LN[0]]\nM2\n", ("acos_range", 2, 12)),
+    ("#1 = [1/0 + SQRT[-1]]\nM2\n", ("divide_by_zero", 1, 6)),
+    ("o1 if [1]\no1 endif junk\nM2\n", ("text_after_o_word", 2, 10)),
 ]
 
 
