@@ -22,6 +22,9 @@ class Tolerances:
     merge: float = 1e-9
     #: Clearance below which a rapid move is reported as a near miss, mm.
     near_miss: float = 1.0
+    #: Material below this volume (mm³) does not count as removed by a rapid or touched by a
+    #: holder (boolean round-off on a cut stock is far smaller).
+    removal_volume: float = 1e-3
     #: Default block limit for interpreters (infinite-loop guard).
     max_blocks: int = 10_000_000
     #: Default subprogram call depth limit (Sinumerik allows 16 levels incl. main program).

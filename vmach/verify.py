@@ -41,6 +41,7 @@ class VerifyOptions:
     images: bool = True
     max_blocks: int = 10_000_000
     quiet: bool = True
+    export: tuple[str, ...] = ()
 
 
 @dataclass
@@ -60,6 +61,7 @@ class Report:
     timings: dict[str, float] = field(default_factory=dict)
     part: Any = None  # final stock mesh (trimesh.Trimesh) when the stock was simulated
     timing: Any = None  # vmach.motion.timing.Timing
+    sim: Any = None  # vmach.stock.simulate.SimResult
 
     @property
     def errors(self) -> int:
@@ -185,6 +187,27 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         report.timing = timing
         report.findings.extend(_rate_findings(model, table))
 
+    spec = report.stock_spec
+    if spec and library is not None:
+        with clock("stock"):
+            from vmach.stock import Stock
+            from vmach.stock.simulate import simulate
+
+            stock = Stock.from_spec(spec, progress=not options.quiet)
+            sim = simulate(table, model, library, stock, checks=True)
+            report.part = stock
+            report.sim = sim
+            # tools missing from the library are already `unknown_tool` errors
+            report.findings.extend(_group_by_block(f for f in sim.findings if f.kind != "stock_tool_unknown"))
+            for target in options.export:
+                which = "removed" if Path(target).stem.endswith("removed") else "part"
+                stock.export(target, which=which)
+        profile_spec = options.profile or setup.profile
+        if profile_spec:
+            with clock("profile"):
+                report.findings.extend(_profile(report, stock, profile_spec,
+                                                options.profile_z or setup.profile_z, options))
+
     if library is not None:
         with clock("collisions"):
             from vmach.checks.collisions import fixture_collisions, tool_cylinders
@@ -225,6 +248,33 @@ def _limit_findings(model, table: MoveTable) -> list[Finding]:
     return _first_per_line(keep)
 
 
+def _profile(report: Report, stock, spec: str, z_range: str | None, options: VerifyOptions) -> list[Finding]:
+    """Check the cut part against a DIN profile; ``profile_out_of_tolerance`` when it misses."""
+    from vmach.checks.polygon import parse_profile
+    from vmach.checks.profile import check_profile, stations
+
+    profile = parse_profile(spec)
+    if not z_range:
+        raise InputError(f"--profile {spec}: give the Z range to check with --profile-z (e.g. -35:-5)",
+                         kind="usage")
+    res = check_profile(stock.section, profile, stations(z_range, options.profile_stations), fit=options.fit)
+    report.profile = res.to_json()
+    if res.passed:
+        return []
+    lo, hi = res.tolerance
+    worst = max((s for s in res.stations if s.found), key=lambda s: max(s.max - hi, lo - s.min), default=None)
+    missing = [s.z for s in res.stations if not s.found]
+    if worst is None:
+        msg = f"no material around the axis at z = {missing}: the {spec} profile is not there"
+        data = {"missing_z": missing}
+    else:
+        msg = (f"{spec} profile out of tolerance ({options.fit}: {lo * 1000:+.1f}…{hi * 1000:+.1f} µm on the "
+               f"flank): deviation {worst.min * 1000:+.1f}…{worst.max * 1000:+.1f} µm at z = {worst.z:g} mm")
+        data = {"z": worst.z, "max_deviation_mm": worst.max, "min_deviation_mm": worst.min,
+                "tolerance_mm": [lo, hi], "missing_z": missing}
+    return [Finding("profile_out_of_tolerance", "error", msg, None, None, data)]
+
+
 def _rate_findings(model, table: MoveTable) -> list[Finding]:
     """``rate_limit`` where the programmed feed would drive an axis faster than the model allows
     (the control would slow down; the program asks for more than the machine can give)."""
@@ -244,6 +294,27 @@ def _rate_findings(model, table: MoveTable) -> list[Finding]:
     slowed = [Finding(f.kind, "warning", f.message + "; the control slows the path to the axis's limit",
                       f.source, f.move_index, f.data) for f in found]
     return _first_per_line(slowed)
+
+
+def _group_by_block(findings) -> list[Finding]:
+    """One finding per (kind, block, part): the first move, with the number of moves and the
+    total and largest volume (a G0 inside a loop is one defect, not hundreds)."""
+    groups: dict[tuple, list[Finding]] = {}
+    for f in findings:
+        key = (f.kind, f.source.path if f.source else None, f.line, f.data.get("part"))
+        groups.setdefault(key, []).append(f)
+    out = []
+    for fs in groups.values():
+        f = fs[0]
+        if len(fs) == 1:
+            out.append(f)
+            continue
+        vols = [x.data.get("volume_mm3", 0.0) for x in fs]
+        data = {**f.data, "occurrences": len(fs), "volume_mm3": round(sum(vols), 4),
+                "max_volume_mm3": max(vols), "last_move_index": fs[-1].move_index}
+        msg = f"{f.message} (and {len(fs) - 1} more times; {sum(vols):.3f} mm³ in all)"
+        out.append(Finding(f.kind, f.severity, msg, f.source, f.move_index, data))
+    return out
 
 
 def _first_per_line(findings: list[Finding]) -> list[Finding]:

@@ -23,6 +23,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--profile", help="profile to check, e.g. P3G:50 (DIN 32711) or P4C:35x30")
     p.add_argument("--profile-z", help="Z range of the profile check, e.g. -35:-5")
     p.add_argument("--fit", default="g6", help="ISO 286 fit class of the shaft (default g6)")
+    p.add_argument("--stations", type=int, default=7, help="Z stations of the profile check (default 7)")
+    p.add_argument("--export", action="append", default=[],
+                   help="write the cut part (or, for a name ending in 'removed', the removed volume) "
+                   "as .stl/.3mf/.ply; may be given twice")
     p.add_argument("--out", help="directory for report.json and the pictures (default: out/<program>)")
     p.add_argument("--no-images", action="store_true", help="skip the PNG pictures")
     p.add_argument("--format", choices=("text", "json"), default="text")
@@ -38,6 +42,7 @@ def run(args: argparse.Namespace) -> int:
         machine=args.machine, tools=args.tools, stock=args.stock, profile=args.profile,
         profile_z=args.profile_z, fit=args.fit, out=out, images=not args.no_images,
         max_blocks=args.max_blocks, quiet=args.quiet or not sys.stderr.isatty(),
+        export=tuple(args.export), profile_stations=args.stations,
     )
     report = verify(args.program, options)
     data = report.to_json()

@@ -21,6 +21,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vmach.findings import Finding, warning
+from vmach.motion.table import TRAVERSE
+from vmach.stock import engine
+from vmach.stock.events import body_parts, cylinder_boxes, overlap_volume, overlaps, part_solids
 from vmach.stock.stock import Stock
 from vmach.stock.sweep import rotary_substeps, scallop_bound
 from vmach.tol import tol
@@ -71,10 +74,12 @@ def sample_rows(start: np.ndarray, end: np.ndarray, rotary: np.ndarray, fk,
 
 
 def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_angle,
-             step: float = tol.sweep_step) -> SimResult:
+             step: float = tol.sweep_step, checks: bool = False) -> SimResult:
     """Cut ``stock`` with every row of ``table`` (a :class:`vmach.motion.table.MoveTable`).
 
     model : kinematics (``axes``, ``home``, ``fk``); library : tool library (``lookup``).
+    checks : also report ``rapid_into_stock`` and ``holder_collision`` (see
+        :mod:`vmach.stock.events`): moves that may trigger them are cut one by one and measured.
     """
     t0 = time.perf_counter()
     res = SimResult()
@@ -108,7 +113,10 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
         q, k = sample_rows(q0[a:b], q1[a:b], rotary, model.fk, angle, step)
         pose = model.fk(q)
         res.kinematics_seconds += time.perf_counter() - tk
-        stock.cut(found, pose.tip, pose.axis)
+        if checks:
+            _cut_checked(stock, found, table, a, b, k, pose, res)
+        else:
+            stock.cut(found, pose.tip, pose.axis)
         res.moves += b - a
         res.samples += len(q)
         if rotary.any() and len(q) > 1:
@@ -122,3 +130,79 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
                 res.bound_mm = max(res.bound_mm, float(scallop_bound(r[near], dq[near]).max()))
     res.seconds = time.perf_counter() - t0
     return res
+
+
+CHUNK = 64  # moves screened together against the stock before them
+
+
+def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose, res: SimResult) -> None:
+    """Cut rows a..b-1 (samples: row j spans pose[first_j .. first_j + k_j]) and report rapids
+    into material and shank/holder contact (:mod:`vmach.stock.events`)."""
+    tips, ax = pose.tip, pose.axis
+    first = np.r_[0, np.cumsum(k)[:-1]]
+    span = [(first[j], first[j] + k[j] + 1) for j in range(b - a)]
+    cut_boxes = cylinder_boxes(tips, ax, 0.0, tool.cutting_length, tool.radius)
+    parts = body_parts(tool)
+    blank = np.asarray(stock.initial_bounds)
+    part_hit = np.zeros(len(tips), bool)
+    for p in parts:
+        part_hit |= overlaps(cylinder_boxes(tips, ax, p.z0, p.z1, p.radius), blank)
+    rapid = table.kind[a:b] == TRAVERSE
+    for c0 in range(0, b - a, CHUNK):
+        rows = range(c0, min(c0 + CHUNK, b - a))
+        here = stock.bounds
+        watch_parts = [j for j in rows if part_hit[span[j][0]:span[j][1]].any()]
+        watch_rapid = []
+        for j in rows:
+            if rapid[j]:
+                s, e = span[j]
+                box = np.stack([cut_boxes[s:e, 0].min(axis=0), cut_boxes[s:e, 1].max(axis=0)])
+                if overlaps(box[None], here)[0]:
+                    watch_rapid.append(j)
+        if watch_parts or watch_rapid:
+            probe = [c for j in watch_rapid for c in stock.cutters(tool, tips[span[j][0]:span[j][1]],
+                                                                    ax[span[j][0]:span[j][1]])[0]]
+            probe += [q for j in watch_parts for p in parts
+                      for q in part_solids(p, tips[span[j][0]:span[j][1]], ax[span[j][0]:span[j][1]])]
+            if _touches(stock, probe):
+                for j in rows:
+                    _cut_one(stock, tool, table, a + j, tips[span[j][0]:span[j][1]],
+                             ax[span[j][0]:span[j][1]], j in watch_rapid, parts if j in watch_parts else [], res)
+                continue
+        s, e = span[rows[0]][0], span[rows[-1]][1]
+        stock.cut(tool, tips[s:e], ax[s:e])
+
+
+def _touches(stock: Stock, probe: list) -> bool:
+    """Does any probe solid overlap the stock as it is now? Each probe is first met with the
+    blank (a few hundred triangles), and only those inside it with the cut stock."""
+    blank = stock.initial
+    inside = [q for q in probe if overlap_volume(blank, [q])[0] > tol.removal_volume]
+    if not inside:
+        return False
+    now = stock.solid
+    return any(overlap_volume(now, [q])[0] > tol.removal_volume for q in inside)
+
+
+def _cut_one(stock: Stock, tool, table, row: int, tips, ax, rapid: bool, parts: list, res: SimResult) -> None:
+    """Cut one move alone; measure what a rapid removes and what the parts touch after it."""
+    cutters, boxes = stock.cutters(tool, tips, ax)
+    if rapid:
+        removed, centre = overlap_volume(stock.solid, cutters)
+        if removed > tol.removal_volume:
+            c = np.round(centre, 3).tolist()
+            res.findings.append(Finding(
+                "rapid_into_stock", "error",
+                f"rapid move removes {removed:.3f} mm³ of material around "
+                f"({c[0]:.2f}, {c[1]:.2f}, {c[2]:.2f}) mm (work frame)",
+                table.source(row), row, {"volume_mm3": round(removed, 4), "at_mm": c}))
+    stock.queue(cutters, boxes)
+    if parts:
+        after = stock.solid  # the stock after this move's own cut
+        for p in parts:
+            vol, centre = overlap_volume(after, part_solids(p, tips, ax))
+            if vol > tol.removal_volume:
+                res.findings.append(Finding(
+                    "holder_collision", "error", f"the tool's {p.name} runs {vol:.3f} mm³ into the stock",
+                    table.source(row), row,
+                    {"part": p.name, "volume_mm3": round(vol, 4), "at_mm": np.round(centre, 3).tolist()}))

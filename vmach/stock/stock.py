@@ -117,6 +117,13 @@ class Stock:
         motion in order. A rotary path must be sampled densely enough for the wanted accuracy
         (see :mod:`vmach.stock.sweep`).
         """
+        cutters, boxes = self.cutters(tool, tips, axes)
+        self._queue(cutters, boxes)
+        return len(cutters)
+
+    def cutters(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray):
+        """The solids a path sweeps (placed pieces and translation hulls) and their boxes
+        (c, 2, 3), without queueing them."""
         t0 = time.perf_counter()
         ts = tool if isinstance(tool, ToolSolid) else tool_solid(tool, self.chord)
         tips = np.asarray(tips, dtype=float).reshape(-1, 3)
@@ -126,7 +133,7 @@ class Stock:
         if not (np.isfinite(tips).all() and np.isfinite(axes).all()):
             raise InputError("cut: non-finite pose", kind="stock_input")
         if len(tips) == 0:
-            return 0
+            return [], []
         sp = plan(tips, axes)
         fr = frames(tips, axes)
         solids = self._tool_pieces(ts)
@@ -147,8 +154,11 @@ class Stock:
         self.stats.paths += 1
         self.stats.poses += len(tips)
         self.stats.sweep_seconds += time.perf_counter() - t0
+        return cutters, boxes
+
+    def queue(self, cutters: list, boxes: list) -> None:
+        """Queue ready cutters (from :meth:`cutters`)."""
         self._queue(cutters, boxes)
-        return len(cutters)
 
     def _queue(self, cutters: list[engine.Solid], boxes: list[np.ndarray]) -> None:
         if not cutters:
@@ -215,6 +225,12 @@ class Stock:
     def removed(self) -> engine.Solid:
         """The removed material: blank minus part."""
         return engine.subtract(self.initial, [self.solid])
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """(2, 3) float, mm — bounds of the stock now (pending cutters not yet subtracted)."""
+        boxes = np.array([c.box for c in self._cells])
+        return np.stack([boxes[:, 0].min(axis=0), boxes[:, 1].max(axis=0)])
 
     @property
     def volume(self) -> float:

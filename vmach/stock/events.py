@@ -1,0 +1,109 @@
+"""What happens to the stock at one move, for the verify checks.
+
+* ``rapid_into_stock`` — a rapid (G0) that removes material: the stock's volume before and after
+  the move differ by more than ``tol.removal_volume`` mm³; the removed chip's volume and centre
+  are reported.
+* ``holder_collision`` — the tool's non-cutting parts (shank, holder) overlap the stock *as it
+  is after the move's own cut* by more than ``tol.removal_volume`` mm³ (parts are inscribed
+  prisms 0.005 mm inside their cylinders: a body as wide as its cutter only touches).
+
+Checking every move against the evolving stock would cost a boolean per move, so the checks are
+screened in two conservative steps: bounding boxes (:func:`cylinder_boxes`) pick the moves whose
+rapid cutter or shank/holder could reach material at all; then, per chunk of moves, the union of
+their rapid cutters and parts is intersected once with the stock as it is *before* the chunk.
+Material only ever decreases, so an empty intersection clears every move of the chunk; only a
+chunk that is not cleared is cut move by move and measured exactly.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from vmach.stock import engine
+from vmach.tooling.solid import frames, place
+
+
+@dataclass(frozen=True)
+class Part:
+    """A non-cutting part of a tool: a cylinder from ``z0`` to ``z1`` mm above the tip."""
+
+    name: str
+    z0: float
+    z1: float
+    radius: float
+
+
+def body_parts(tool) -> list[Part]:
+    """Shank and holder of a :class:`vmach.tooling.model.Tool`, stacked above the cutting part."""
+    out = []
+    z = tool.cutting_length
+    if tool.shank_length > 0 and tool.shank_diameter > 0:
+        out.append(Part("shank", z, z + tool.shank_length, tool.shank_diameter / 2))
+        z += tool.shank_length
+    if tool.holder_length > 0 and tool.holder_diameter > 0:
+        out.append(Part("holder", z, z + tool.holder_length, tool.holder_diameter / 2))
+    return out
+
+
+def cylinder_boxes(tips: np.ndarray, axes: np.ndarray, z0: float, z1: float, radius: float) -> np.ndarray:
+    """Axis-aligned boxes (n, 2, 3) of a cylinder (axis from z0 to z1 above the tip, ``radius``)
+    at poses ``tips``/``axes`` (n, 3): exact for a cylinder, mm."""
+    a = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+    p0 = tips + z0 * a
+    p1 = tips + z1 * a
+    ext = radius * np.sqrt(np.clip(1.0 - a * a, 0.0, 1.0))
+    lo = np.minimum(p0, p1) - ext
+    hi = np.maximum(p0, p1) + ext
+    return np.stack([lo, hi], axis=1)
+
+
+def overlaps(boxes: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """(n,) bool: boxes (n, 2, 3) that meet ``box`` (2, 3)."""
+    return np.all(boxes[:, 0] <= box[1], axis=1) & np.all(boxes[:, 1] >= box[0], axis=1)
+
+
+def _ring(part: Part, chord: float) -> np.ndarray:
+    """Points of a prism *inscribed* in the part's cylinder, its sides within ``chord`` mm of
+    the circle: a holder exactly as wide as the cutter before it (a shell mill's body) then
+    touches the cut surface without entering it."""
+    segments = max(12, math.ceil(math.pi / math.acos(max(-1.0, 1.0 - chord / part.radius))))
+    r = part.radius
+    th = np.linspace(0, 2 * math.pi, segments, endpoint=False)
+    c = np.column_stack([r * np.cos(th), r * np.sin(th)])
+    return np.vstack([np.column_stack([c, np.full(segments, part.z0)]),
+                      np.column_stack([c, np.full(segments, part.z1)])])
+
+
+def part_solids(part: Part, tips: np.ndarray, axes: np.ndarray, chord: float = 0.005) -> list:
+    """Solids the part occupies along a path of poses: the hull of consecutive poses when the
+    axis does not turn (exact sweep), else the part placed at every pose. The part is an
+    inscribed prism (``chord`` mm inside the true cylinder), so only overlaps deeper than
+    ``chord`` can be reported."""
+    pts = _ring(part, chord)
+    fr = frames(tips, axes)
+    placed = place(pts, fr)
+    a = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+    out = []
+    if len(tips) == 1:
+        return [engine.hull(placed[0])]
+    for i in range(len(tips) - 1):
+        if np.allclose(a[i], a[i + 1], atol=1e-12):
+            out.append(engine.hull(np.concatenate([placed[i], placed[i + 1]])))
+        else:
+            out.append(engine.hull(placed[i]))
+            out.append(engine.hull(placed[i + 1]))
+    return out
+
+
+def overlap_volume(solid, parts: list) -> tuple[float, np.ndarray | None]:
+    """Volume (mm³) of ``solid`` inside the union of ``parts`` and the centre of that overlap."""
+    if not parts:
+        return 0.0, None
+    inter = engine.intersect(solid, engine.union(parts))
+    if engine.is_empty(inter):
+        return 0.0, None
+    b = engine.bounds(inter)
+    return engine.volume(inter), (b[0] + b[1]) / 2
