@@ -62,6 +62,8 @@ class Report:
     part: Any = None  # final stock mesh (trimesh.Trimesh) when the stock was simulated
     timing: Any = None  # vmach.motion.timing.Timing
     sim: Any = None  # vmach.stock.simulate.SimResult
+    library: Any = None  # vmach.tooling.ToolLibrary
+    profile_spec: str | None = None
 
     @property
     def errors(self) -> int:
@@ -78,7 +80,9 @@ class Report:
                 "blocks": None if res is None else res.blocks,
                 "moves": None if self.table is None else len(self.table),
             },
-            "machine": None if self.machine_path is None else {
+            "machine": None
+            if self.machine_path is None
+            else {
                 "path": str(self.machine_path),
                 "name": getattr(self.model, "name", self.machine_path.stem),
                 "axes": list(self.table.axes) if self.table is not None else None,
@@ -141,8 +145,9 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
 
         report.machine_path = resolve_model(options.machine) if options.machine else setup.machine
         if report.machine_path is None:
-            raise InputError(f"{program}: which machine? give --machine (or a vmach.toml beside the program)",
-                             kind="usage")
+            raise InputError(
+                f"{program}: which machine? give --machine (or a vmach.toml beside the program)", kind="usage"
+            )
         model = load_model(report.machine_path)
         report.model = model
         control = model.control
@@ -160,6 +165,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             from vmach.tooling.library import load_tools
 
             library = load_tools(tools_path)
+        report.library = library
         report.stock_spec = options.stock or setup.stock
 
     with clock("interpret"):
@@ -203,18 +209,29 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
                 which = "removed" if Path(target).stem.endswith("removed") else "part"
                 stock.export(target, which=which)
         profile_spec = options.profile or setup.profile
+        report.profile_spec = profile_spec
         if profile_spec:
             with clock("profile"):
-                report.findings.extend(_profile(report, stock, profile_spec,
-                                                options.profile_z or setup.profile_z, options))
+                report.findings.extend(
+                    _profile(report, stock, profile_spec, options.profile_z or setup.profile_z, options)
+                )
 
     if library is not None:
         with clock("collisions"):
             from vmach.checks.collisions import fixture_collisions, tool_cylinders
 
-            cyl = {i: tool_cylinders(t) for i, name in enumerate(table.tools)
-                   if (t := library.lookup(name)) is not None}
+            cyl = {
+                i: tool_cylinders(t)
+                for i, name in enumerate(table.tools)
+                if (t := library.lookup(name)) is not None
+            }
             report.findings.extend(fixture_collisions(model, table, cyl))
+
+    if options.images and options.out is not None:
+        with clock("pictures"):
+            from vmach.report.pictures import make_pictures
+
+            report.images = make_pictures(report, Path(options.out))
 
     report.timings["total"] = time.perf_counter() - t0
     return report
@@ -255,8 +272,9 @@ def _profile(report: Report, stock, spec: str, z_range: str | None, options: Ver
 
     profile = parse_profile(spec)
     if not z_range:
-        raise InputError(f"--profile {spec}: give the Z range to check with --profile-z (e.g. -35:-5)",
-                         kind="usage")
+        raise InputError(
+            f"--profile {spec}: give the Z range to check with --profile-z (e.g. -35:-5)", kind="usage"
+        )
     res = check_profile(stock.section, profile, stations(z_range, options.profile_stations), fit=options.fit)
     report.profile = res.to_json()
     if res.passed:
@@ -268,10 +286,17 @@ def _profile(report: Report, stock, spec: str, z_range: str | None, options: Ver
         msg = f"no material around the axis at z = {missing}: the {spec} profile is not there"
         data = {"missing_z": missing}
     else:
-        msg = (f"{spec} profile out of tolerance ({options.fit}: {lo * 1000:+.1f}…{hi * 1000:+.1f} µm on the "
-               f"flank): deviation {worst.min * 1000:+.1f}…{worst.max * 1000:+.1f} µm at z = {worst.z:g} mm")
-        data = {"z": worst.z, "max_deviation_mm": worst.max, "min_deviation_mm": worst.min,
-                "tolerance_mm": [lo, hi], "missing_z": missing}
+        msg = (
+            f"{spec} profile out of tolerance ({options.fit}: {lo * 1000:+.1f}…{hi * 1000:+.1f} µm on the "
+            f"flank): deviation {worst.min * 1000:+.1f}…{worst.max * 1000:+.1f} µm at z = {worst.z:g} mm"
+        )
+        data = {
+            "z": worst.z,
+            "max_deviation_mm": worst.max,
+            "min_deviation_mm": worst.min,
+            "tolerance_mm": [lo, hi],
+            "missing_z": missing,
+        }
     return [Finding("profile_out_of_tolerance", "error", msg, None, None, data)]
 
 
@@ -287,12 +312,22 @@ def _rate_findings(model, table: MoveTable) -> list[Finding]:
         return []
     a = table.columns(model.axes, model.home, table.start[rows])
     b = table.columns(model.axes, model.home, table.end[rows])
-    found = rate_findings(model, a, b, t[rows], sources=[table.source(int(r)) for r in rows],
-                          move_index=rows.tolist())
+    found = rate_findings(
+        model, a, b, t[rows], sources=[table.source(int(r)) for r in rows], move_index=rows.tolist()
+    )
     # the control does not alarm: it slows the path so the axis keeps its limit (the cycle time
     # counts that); the program asks for more than the machine gives, which is worth a warning
-    slowed = [Finding(f.kind, "warning", f.message + "; the control slows the path to the axis's limit",
-                      f.source, f.move_index, f.data) for f in found]
+    slowed = [
+        Finding(
+            f.kind,
+            "warning",
+            f.message + "; the control slows the path to the axis's limit",
+            f.source,
+            f.move_index,
+            f.data,
+        )
+        for f in found
+    ]
     return _first_per_line(slowed)
 
 
@@ -310,8 +345,13 @@ def _group_by_block(findings) -> list[Finding]:
             out.append(f)
             continue
         vols = [x.data.get("volume_mm3", 0.0) for x in fs]
-        data = {**f.data, "occurrences": len(fs), "volume_mm3": round(sum(vols), 4),
-                "max_volume_mm3": max(vols), "last_move_index": fs[-1].move_index}
+        data = {
+            **f.data,
+            "occurrences": len(fs),
+            "volume_mm3": round(sum(vols), 4),
+            "max_volume_mm3": max(vols),
+            "last_move_index": fs[-1].move_index,
+        }
         msg = f"{f.message} (and {len(fs) - 1} more times; {sum(vols):.3f} mm³ in all)"
         out.append(Finding(f.kind, f.severity, msg, f.source, f.move_index, data))
     return out
@@ -328,7 +368,13 @@ def _first_per_line(findings: list[Finding]) -> list[Finding]:
     out = []
     for key, f in seen.items():
         if counts[key] > 1:
-            f = Finding(f.kind, f.severity, f.message + f" (and {counts[key] - 1} more times)",
-                        f.source, f.move_index, {**f.data, "occurrences": counts[key]})
+            f = Finding(
+                f.kind,
+                f.severity,
+                f.message + f" (and {counts[key] - 1} more times)",
+                f.source,
+                f.move_index,
+                {**f.data, "occurrences": counts[key]},
+            )
         out.append(f)
     return out

@@ -7,15 +7,29 @@ import pytest
 from catalog import TURNMILL
 from nc import ok
 
-from vmach.checks.collisions import Cylinder, fixture_collisions, signed_distance, surface_points, tool_cylinders
+from vmach.checks.collisions import (
+    Cylinder,
+    fixture_collisions,
+    signed_distance,
+    surface_points,
+    tool_cylinders,
+)
 from vmach.machine import load_model
 from vmach.machine.spec import Geometry
 from vmach.motion import build
 from vmach.tooling.model import Tool
 
 MODEL = load_model(TURNMILL)
-D25 = Tool(name="D25", kind="flat", diameter=25.0, cutting_length=30.0, shank_diameter=25.0,
-           shank_length=30.0, holder_diameter=50.0, holder_length=40.0)
+D25 = Tool(
+    name="D25",
+    kind="flat",
+    diameter=25.0,
+    cutting_length=30.0,
+    shank_diameter=25.0,
+    shank_length=30.0,
+    holder_diameter=50.0,
+    holder_length=40.0,
+)
 
 
 def test_signed_distance_of_box_and_cylinder():
@@ -52,8 +66,12 @@ def test_rapid_into_the_jaws_is_a_fixture_collision_at_its_line(tmp_path):
     hits = sorted((x.line, x.data["obstacle"], x.data["part"]) for x in f if x.kind == "fixture_collision")
     # the rapid down drives the cutter into jaw 1 and the Ø50 holder onto the chuck face
     # (z = -100); the rapid back up starts inside both: collisions as well
-    assert hits == [(5, "chuck_body", "holder"), (5, "jaw_1", "cutter"),
-                    (6, "chuck_body", "holder"), (6, "jaw_1", "cutter")]
+    assert hits == [
+        (5, "chuck_body", "holder"),
+        (5, "jaw_1", "cutter"),
+        (6, "chuck_body", "holder"),
+        (6, "jaw_1", "cutter"),
+    ]
     depth = {x.data["obstacle"]: x.data["depth_mm"] for x in f if x.line == 5}
     # jaw top at z = -65, cutter bottom at -80 - 12.5; holder bottom at -80 - 25 vs chuck face -100
     # deepest cutter point in the jaw: the tip face centre (60, 0, -80), 10 mm from the jaw's

@@ -22,7 +22,9 @@ def test_runs_groups_consecutive_rows():
 
 
 def test_spindle_off_and_wrong_spindle(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 SETMS(2)
 G0 X40 Y0 Z5
 G1 Z-1 F100
@@ -34,11 +36,15 @@ S1=200 M1=3
 G1 Z-4
 Z-5
 M30
-""", TURN)
+""",
+        TURN,
+    )
     t = build(r.commands, TURN)
     f = spindle_off_cuts(t, tool_spindle=2)
     assert [(x.kind, x.line, x.data["moves"], x.data["wrong_spindle"]) for x in f] == [
-        ("spindle_off_cut", 4, 2, False), ("spindle_off_cut", 10, 2, True)]
+        ("spindle_off_cut", 4, 2, False),
+        ("spindle_off_cut", 10, 2, True),
+    ]
 
 
 def test_zero_feed_with_feed_per_revolution_and_stopped_spindle(tmp_path):
@@ -57,7 +63,9 @@ class _Library:
 def test_unknown_tool_at_the_t_line(tmp_path):
     r = ok(tmp_path, 'T="GLOD D40" D1\nT="NO SUCH" D1\nT7\nM30\n')
     assert [(x.kind, x.line, x.data["tool"]) for x in unknown_tools(r.commands, _Library())] == [
-        ("unknown_tool", 2, "NO SUCH"), ("unknown_tool", 3, "7")]
+        ("unknown_tool", 2, "NO SUCH"),
+        ("unknown_tool", 3, "7"),
+    ]
 
 
 def _variant(tmp_path, old: str, new: str):
@@ -77,7 +85,9 @@ def test_x_beyond_travel_is_an_axis_limit_at_its_line(tmp_path):
     main, sub, line = _variant(tmp_path, "N390 G0 X=R58/2+10 Z=30", "N390 G0 X=R58/2+400 Z=30")
     report = verify(main, VerifyOptions(images=False))
     f = [x for x in report.findings if x.kind == "axis_limit"]
-    assert [(x.source.path.endswith("P3G_SHAFT.SPF"), x.line, x.data.get("axis")) for x in f] == [(True, line, "X")]
+    assert [(x.source.path.endswith("P3G_SHAFT.SPF"), x.line, x.data.get("axis")) for x in f] == [
+        (True, line, "X")
+    ]
     assert report.errors == 1
 
 

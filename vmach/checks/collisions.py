@@ -61,10 +61,11 @@ def surface_points(parts: list[Cylinder], step: float) -> tuple[np.ndarray, np.n
         ring = np.stack([c.radius * np.cos(th), c.radius * np.sin(th)], axis=1)
         mantle = np.concatenate([np.column_stack([ring, np.full(n_theta, z)]) for z in zs])
         radii = np.arange(step, c.radius, step)
-        disc = [np.zeros((1, 2))] + [np.stack([r * np.cos(t), r * np.sin(t)], axis=1)
-                                     for r in radii
-                                     for t in [np.linspace(0, 2 * math.pi, max(6, math.ceil(2 * math.pi * r / step)),
-                                                           endpoint=False)]]
+        disc = [np.zeros((1, 2))] + [
+            np.stack([r * np.cos(t), r * np.sin(t)], axis=1)
+            for r in radii
+            for t in [np.linspace(0, 2 * math.pi, max(6, math.ceil(2 * math.pi * r / step)), endpoint=False)]
+        ]
         disc_xy = np.concatenate(disc)
         caps = np.concatenate([np.column_stack([disc_xy, np.full(len(disc_xy), z)]) for z in (c.z0, c.z1)])
         p = np.concatenate([mantle, caps])
@@ -100,7 +101,9 @@ def _bounds(geom) -> np.ndarray:
     return np.column_stack([c, np.ones(8)])
 
 
-def sample_moves(table: MoveTable, rows: np.ndarray, reach: float, step: float) -> tuple[np.ndarray, np.ndarray]:
+def sample_moves(
+    table: MoveTable, rows: np.ndarray, reach: float, step: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Axis values along the given rows, no tool point moving more than ``step`` mm between two.
 
     reach : distance of the farthest tool point from any rotary axis (mm), to turn degrees
@@ -117,8 +120,13 @@ def sample_moves(table: MoveTable, rows: np.ndarray, reach: float, step: float) 
     return q, rows[owner]
 
 
-def fixture_collisions(model, table: MoveTable, tools: dict[int, list[Cylinder]],
-                       clearance: float = tol.near_miss, step: float = 2.0) -> list[Finding]:
+def fixture_collisions(
+    model,
+    table: MoveTable,
+    tools: dict[int, list[Cylinder]],
+    clearance: float = tol.near_miss,
+    step: float = 2.0,
+) -> list[Finding]:
     """``fixture_collision`` and ``near_miss`` findings for every move with a known tool.
 
     tools : row tool index (``table.tool``) -> the tool's cylinders.
@@ -141,8 +149,14 @@ def fixture_collisions(model, table: MoveTable, tools: dict[int, list[Cylinder]]
         tool2base = frames["tool"]
         tool_lo = np.array([-max(c.radius for c in parts)] * 2 + [0.0])
         tool_hi = np.array([max(c.radius for c in parts)] * 2 + [top])
-        tool_box = np.array([[x, y, z, 1.0] for x in (tool_lo[0], tool_hi[0]) for y in (tool_lo[1], tool_hi[1])
-                             for z in (tool_lo[2], tool_hi[2])])
+        tool_box = np.array(
+            [
+                [x, y, z, 1.0]
+                for x in (tool_lo[0], tool_hi[0])
+                for y in (tool_lo[1], tool_hi[1])
+                for z in (tool_lo[2], tool_hi[2])
+            ]
+        )
         tb = np.einsum("sij,pj->spi", tool2base, tool_box)[..., :3]
         t_min, t_max = tb.min(axis=1), tb.max(axis=1)
         rapid = table.kind[owner] == TRAVERSE
@@ -173,10 +187,15 @@ def fixture_collisions(model, table: MoveTable, tools: dict[int, list[Cylinder]]
                     continue
                 key = (kind, g.name, int(table.command[row]))
                 prev = out.get(key)
-                worse = prev is None or (kind == "fixture_collision" and data["depth_mm"] > prev.data["depth_mm"]) \
+                worse = (
+                    prev is None
+                    or (kind == "fixture_collision" and data["depth_mm"] > prev.data["depth_mm"])
                     or (kind == "near_miss" and data["distance_mm"] < prev.data["distance_mm"])
+                )
                 if worse:
                     out[key] = Finding(kind, sev, msg, table.source(row), row, data)
     found = list(out.values())
     hit = {(f.data["obstacle"], f.move_index) for f in found if f.kind == "fixture_collision"}
-    return [f for f in found if f.kind == "fixture_collision" or (f.data["obstacle"], f.move_index) not in hit]
+    return [
+        f for f in found if f.kind == "fixture_collision" or (f.data["obstacle"], f.move_index) not in hit
+    ]

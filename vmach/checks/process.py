@@ -32,9 +32,16 @@ def unknown_tools(commands: Sequence[canon.Command], library) -> list[Finding]:
     out = []
     for c in commands:
         if isinstance(c, canon.ToolChange) and library.lookup(c.tool) is None:
-            out.append(Finding("unknown_tool", "error",
-                               f'tool "{c.tool}" is not in the tool library {library.path}',
-                               c.source, None, {"tool": c.tool}))
+            out.append(
+                Finding(
+                    "unknown_tool",
+                    "error",
+                    f'tool "{c.tool}" is not in the tool library {library.path}',
+                    c.source,
+                    None,
+                    {"tool": c.tool},
+                )
+            )
     return out
 
 
@@ -49,8 +56,9 @@ def spindle_off_cuts(table: MoveTable, tool_spindle: int | None) -> list[Finding
         return []
     cutting = table.kind != TRAVERSE
     if tool_spindle is None:
-        cols = np.array([table.spindles.index(int(m)) if int(m) in table.spindles else -1
-                         for m in table.master])
+        cols = np.array(
+            [table.spindles.index(int(m)) if int(m) in table.spindles else -1 for m in table.master]
+        )
         turning = np.array([table.direction[i, c] != 0 if c >= 0 else False for i, c in enumerate(cols)])
     elif tool_spindle in table.spindles:
         turning = table.direction[:, table.spindles.index(tool_spindle)] != 0
@@ -61,10 +69,21 @@ def spindle_off_cuts(table: MoveTable, tool_spindle: int | None) -> list[Finding
     for a, b in runs(cutting & ~turning):
         wrong = bool(others[a])
         which = f"spindle {tool_spindle}" if tool_spindle is not None else "the master spindle"
-        msg = (f"feed move with {which} stopped" + (" while another spindle turns" if wrong else "")
-               + (f" ({b - a + 1} moves, to line {int(table.line[b])})" if b > a else ""))
-        out.append(Finding("spindle_off_cut", "error", msg, table.source(a), a,
-                           {"moves": b - a + 1, "last_line": int(table.line[b]), "wrong_spindle": wrong}))
+        msg = (
+            f"feed move with {which} stopped"
+            + (" while another spindle turns" if wrong else "")
+            + (f" ({b - a + 1} moves, to line {int(table.line[b])})" if b > a else "")
+        )
+        out.append(
+            Finding(
+                "spindle_off_cut",
+                "error",
+                msg,
+                table.source(a),
+                a,
+                {"moves": b - a + 1, "last_line": int(table.line[b]), "wrong_spindle": wrong},
+            )
+        )
     return out
 
 
@@ -77,12 +96,24 @@ def zero_feeds(table: MoveTable) -> list[Finding]:
     cutting = table.kind != TRAVERSE
     feed = np.nan_to_num(table.feed, nan=0.0)
     per_rev = table.feed_mode == FEED_MODES.index("per_rev")
-    master_speed = np.array([table.speed[i, table.spindles.index(int(m))] if int(m) in table.spindles else 0.0
-                             for i, m in enumerate(table.master)])
+    master_speed = np.array(
+        [
+            table.speed[i, table.spindles.index(int(m))] if int(m) in table.spindles else 0.0
+            for i, m in enumerate(table.master)
+        ]
+    )
     zero = cutting & ((feed <= 0) | (per_rev & (master_speed <= 0)))
     out = []
     for a, b in runs(zero):
         why = "F0" if feed[a] <= 0 else "feed per revolution with the spindle at 0 rev/min"
-        out.append(Finding("zero_feed", "error", f"feed move at zero feed ({why})", table.source(a), a,
-                           {"moves": b - a + 1, "last_line": int(table.line[b])}))
+        out.append(
+            Finding(
+                "zero_feed",
+                "error",
+                f"feed move at zero feed ({why})",
+                table.source(a),
+                a,
+                {"moves": b - a + 1, "last_line": int(table.line[b])},
+            )
+        )
     return out

@@ -24,9 +24,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--profile-z", help="Z range of the profile check, e.g. -35:-5")
     p.add_argument("--fit", default="g6", help="ISO 286 fit class of the shaft (default g6)")
     p.add_argument("--stations", type=int, default=7, help="Z stations of the profile check (default 7)")
-    p.add_argument("--export", action="append", default=[],
-                   help="write the cut part (or, for a name ending in 'removed', the removed volume) "
-                   "as .stl/.3mf/.ply; may be given twice")
+    p.add_argument(
+        "--export",
+        action="append",
+        default=[],
+        help="write the cut part (or, for a name ending in 'removed', the removed volume) "
+        "as .stl/.3mf/.ply; may be given twice",
+    )
     p.add_argument("--out", help="directory for report.json and the pictures (default: out/<program>)")
     p.add_argument("--no-images", action="store_true", help="skip the PNG pictures")
     p.add_argument("--format", choices=("text", "json"), default="text")
@@ -39,10 +43,18 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--max-blocks must be at least 1", kind="usage")
     out = Path(args.out) if args.out else Path("out") / Path(args.program).stem
     options = VerifyOptions(
-        machine=args.machine, tools=args.tools, stock=args.stock, profile=args.profile,
-        profile_z=args.profile_z, fit=args.fit, out=out, images=not args.no_images,
-        max_blocks=args.max_blocks, quiet=args.quiet or not sys.stderr.isatty(),
-        export=tuple(args.export), profile_stations=args.stations,
+        machine=args.machine,
+        tools=args.tools,
+        stock=args.stock,
+        profile=args.profile,
+        profile_z=args.profile_z,
+        fit=args.fit,
+        out=out,
+        images=not args.no_images,
+        max_blocks=args.max_blocks,
+        quiet=args.quiet or not sys.stderr.isatty(),
+        export=tuple(args.export),
+        profile_stations=args.stations,
     )
     report = verify(args.program, options)
     data = report.to_json()
@@ -65,14 +77,17 @@ def summary(report, out: Path) -> str:
     d = report.to_json()
     s = d["summary"]
     lines.append("")
-    lines.append(f"{report.program}: {d['program']['moves']} moves, "
-                 f"{s['errors']} error(s), {s['warnings']} warning(s)")
+    lines.append(
+        f"{report.program}: {d['program']['moves']} moves, {s['errors']} error(s), {s['warnings']} warning(s)"
+    )
     if d["cycle_time_s"] is not None:
         t = d["cycle_time_s"]
         lines.append(f"cycle time {int(t // 60)} min {t % 60:04.1f} s")
     if d["profile"]:
         p = d["profile"]
-        lines.append(f"profile {p['type']} d1={p['d1']}: max |deviation| {p['max_abs_deviation_mm']:.4f} mm, "
-                     f"band {p['tolerance_mm']}: {'PASS' if p['pass'] else 'FAIL'}")
+        lines.append(
+            f"profile {p['type']} d1={p['d1']}: max |deviation| {p['max_abs_deviation_mm']:.4f} mm, "
+            f"band {p['tolerance_mm']}: {'PASS' if p['pass'] else 'FAIL'}"
+        )
     lines.append(f"report: {out / 'report.json'}")
     return "\n".join(lines)

@@ -28,8 +28,12 @@ def _plotter(size: tuple[int, int] = WINDOW):
     return pv, plotter
 
 
-def profile_png(path: str | Path, curves: Sequence[tuple[np.ndarray, str]], title: str = "",
-                size: tuple[int, int] = WINDOW) -> Path:
+def profile_png(
+    path: str | Path,
+    curves: Sequence[tuple[np.ndarray, str]],
+    title: str = "",
+    size: tuple[int, int] = WINDOW,
+) -> Path:
     """Closed plane curves, seen along −Z, as a PNG.
 
     curves : sequence of (points (n, 2) float mm, colour name); each is drawn closed.
@@ -57,3 +61,175 @@ def profile_png(path: str | Path, curves: Sequence[tuple[np.ndarray, str]], titl
     finally:
         plotter.close()
     return out
+
+
+def _save(plotter, out: Path) -> Path:
+    if out.suffix.lower() != ".png":
+        plotter.close()
+        raise InputError(f"{out}: pictures are written as .png", kind="export_format")
+    try:
+        plotter.screenshot(str(out))
+    except OSError as exc:
+        raise InputError(f"{out}: cannot write: {exc.strerror or exc}", kind="unwritable") from None
+    finally:
+        plotter.close()
+    return out
+
+
+def _faces(faces: np.ndarray) -> np.ndarray:
+    f = np.asarray(faces, dtype=np.int64)
+    return np.column_stack([np.full(len(f), 3), f]).ravel()
+
+
+def _camera(plotter, view: str) -> None:
+    if view == "iso":
+        plotter.view_isometric()
+    elif view == "xy":
+        plotter.view_xy()
+    elif view == "xz":
+        plotter.view_xz()
+    plotter.reset_camera()
+
+
+def part_deviation_png(
+    path: str | Path,
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    deviation: np.ndarray,
+    clim: tuple[float, float],
+    title: str = "",
+    size: tuple[int, int] = WINDOW,
+) -> Path:
+    """A part coloured by deviation.
+
+    vertices (n, 3) mm, faces (m, 3); deviation (n,) mm per vertex, NaN where not measured
+    (drawn grey); clim (lo, hi) mm of the colour bar.
+    """
+    pv, plotter = _plotter(size)
+    mesh = pv.PolyData(np.asarray(vertices, float), _faces(faces))
+    mesh.point_data["deviation [mm]"] = np.asarray(deviation, float)
+    plotter.add_mesh(
+        mesh,
+        scalars="deviation [mm]",
+        cmap="coolwarm",
+        clim=list(clim),
+        nan_color="lightgray",
+        smooth_shading=False,
+        scalar_bar_args={
+            "title": "deviation [mm]",
+            "color": FOREGROUND,
+            "fmt": "%.4f",
+            "n_labels": 5,
+            "vertical": True,
+            "position_x": 0.8,
+            "position_y": 0.1,
+            "width": 0.08,
+            "height": 0.6,
+        },
+    )
+    if title:
+        plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
+    plotter.camera_position = "xy"
+    plotter.camera.elevation = 35
+    plotter.camera.azimuth = 20
+    plotter.reset_camera()
+    return _save(plotter, Path(path))
+
+
+def toolpath_png(
+    path: str | Path,
+    points: np.ndarray,
+    kinds: np.ndarray,
+    outline: tuple | None = None,
+    title: str = "",
+    size: tuple[int, int] = WINDOW,
+) -> Path:
+    """A tool path in 3-D: rapids red, feeds green (as the control's simulation draws them).
+
+    points (n, 2, 3) mm — segment end points; kinds (n,) — 0 rapid, 1 feed.
+    outline : optional (vertices, faces) of the stock drawn as a translucent body.
+    """
+    pv, plotter = _plotter(size)
+    pts = np.asarray(points, float).reshape(-1, 3)
+    kinds = np.asarray(kinds)
+    for k, colour, width in ((1, "green", 1.5), (0, "red", 1.0)):
+        sel = np.flatnonzero(kinds == k)
+        if len(sel):
+            seg = np.asarray(points, float)[sel].reshape(-1, 3)
+            plotter.add_mesh(pv.line_segments_from_points(seg), color=colour, line_width=width)
+    if outline is not None:
+        v, f = outline
+        plotter.add_mesh(pv.PolyData(np.asarray(v, float), _faces(f)), color="lightsteelblue", opacity=0.25)
+    if title:
+        plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
+    if len(pts):
+        plotter.view_isometric()
+        plotter.reset_camera()
+    return _save(plotter, Path(path))
+
+
+def chart_png(
+    path: str | Path,
+    series: Sequence[tuple[np.ndarray, np.ndarray, str, str]],
+    x_label: str,
+    y_label: str,
+    title: str = "",
+    size: tuple[int, int] = (900, 500),
+) -> Path:
+    """Line chart; series: (x (n,), y (n,), label, colour)."""
+    pv, plotter = _plotter(size)
+    chart = pv.Chart2D(x_label=x_label, y_label=y_label)
+    for x, y, label, colour in series:
+        chart.line(np.asarray(x, float), np.asarray(y, float), color=colour, width=2, label=label)
+    chart.title = title
+    plotter.add_chart(chart)
+    return _save(plotter, Path(path))
+
+
+def scene_png(
+    path: str | Path,
+    meshes: Sequence[tuple[np.ndarray, np.ndarray, str, float]],
+    focus: tuple[np.ndarray, float],
+    title: str = "",
+    marker: np.ndarray | None = None,
+    size: tuple[int, int] = WINDOW,
+) -> Path:
+    """A close-up of solids: meshes (vertices, faces, colour, opacity); the camera looks at
+    ``focus`` = (centre (3,), radius mm); ``marker`` (3,) draws a small sphere at a point."""
+    pv, plotter = _plotter(size)
+    for v, f, colour, opacity in meshes:
+        if len(f):
+            plotter.add_mesh(
+                pv.PolyData(np.asarray(v, float), _faces(f)),
+                color=colour,
+                opacity=opacity,
+                smooth_shading=False,
+            )
+    centre, radius = focus
+    if marker is not None:
+        plotter.add_mesh(
+            pv.Sphere(radius=max(radius / 40, 0.2), center=np.asarray(marker, float)), color="red"
+        )
+    if title:
+        plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
+    plotter.view_isometric()
+    plotter.reset_camera(
+        bounds=[
+            centre[0] - radius,
+            centre[0] + radius,
+            centre[1] - radius,
+            centre[1] + radius,
+            centre[2] - radius,
+            centre[2] + radius,
+        ]
+    )
+    return _save(plotter, Path(path))
+
+
+def images_equal(a: str | Path, b: str | Path, threshold: float) -> tuple[bool, float]:
+    """Image regression: pyvista's mean pixel error between two PNGs, and whether it is within
+    ``threshold``."""
+    import pyvista as pv
+
+    err = float(pv.compare_images(str(a), str(b)))
+    return err <= threshold, err

@@ -46,6 +46,9 @@ class SimResult:
     bound_mm: float = 0.0
     max_step_deg: float = 0.0
     findings: list[Finding] = field(default_factory=list)
+    #: row -> (vertices (n, 3), faces (m, 3)) of the stock right after a move that made a
+    #: finding (first per block), for the close-up pictures
+    snapshots: dict = field(default_factory=dict)
 
 
 def sample_rows(start: np.ndarray, end: np.ndarray, rotary: np.ndarray, fk,
@@ -197,6 +200,8 @@ def _cut_one(stock: Stock, tool, table, row: int, tips, ax, rapid: bool, parts: 
                 f"({c[0]:.2f}, {c[1]:.2f}, {c[2]:.2f}) mm (work frame)",
                 table.source(row), row, {"volume_mm3": round(removed, 4), "at_mm": c}))
     stock.queue(cutters, boxes)
+    if rapid and res.findings and res.findings[-1].move_index == row:
+        _snapshot(stock, row, res)
     if parts:
         after = stock.solid  # the stock after this move's own cut
         for p in parts:
@@ -206,3 +211,14 @@ def _cut_one(stock: Stock, tool, table, row: int, tips, ax, rapid: bool, parts: 
                     "holder_collision", "error", f"the tool's {p.name} runs {vol:.3f} mm³ into the stock",
                     table.source(row), row,
                     {"part": p.name, "volume_mm3": round(vol, 4), "at_mm": np.round(centre, 3).tolist()}))
+                _snapshot(stock, row, res)
+
+
+SNAPSHOTS = 12  # close-up pictures are made of the first few findings only
+
+
+def _snapshot(stock: Stock, row: int, res: SimResult) -> None:
+    lines = {f.line for f in res.findings if f.move_index in res.snapshots}
+    here = next((f.line for f in reversed(res.findings) if f.move_index == row), None)
+    if len(res.snapshots) < SNAPSHOTS and row not in res.snapshots and here not in lines:
+        res.snapshots[row] = engine.to_mesh(stock.solid)

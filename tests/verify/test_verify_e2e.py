@@ -1,0 +1,109 @@
+"""Broken variants of our own fixture program: each yields exactly the expected finding kind at
+the expected line (issue 5 acceptance), and the clean program yields none."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+from catalog import FIXTURES, POLYGON_TOOLS
+
+from vmach.cli import main
+from vmach.verify import VerifyOptions, verify
+
+FLATS = FIXTURES / "turnmill"
+
+
+def variant(tmp_path, old: str | None = None, new: str | None = None, tools: str | None = None):
+    d = tmp_path / "job"
+    shutil.copytree(FLATS, d)
+    text = (d / "FLATS.MPF").read_text()
+    if old is not None:
+        assert old in text
+        text = text.replace(old, new)
+        (d / "FLATS.MPF").write_text(text)
+    setup = (d / "vmach.toml").read_text().replace("../tools/polygon_shaft.toml", str(POLYGON_TOOLS))
+    if tools is not None:
+        (d / "tools.toml").write_text(tools)
+        setup = setup.replace(str(POLYGON_TOOLS), "tools.toml")
+    (d / "vmach.toml").write_text(setup)
+    lines = text.splitlines()
+
+    def line_of(prefix: str) -> int:
+        return next(i + 1 for i, ln in enumerate(lines) if ln.startswith(prefix))
+
+    return d / "FLATS.MPF", line_of
+
+
+def errors(report):
+    return sorted((f.kind, f.line) for f in report.findings if f.severity == "error")
+
+
+def test_clean_fixture_verifies_without_findings(tmp_path):
+    prog, _ = variant(tmp_path)
+    report = verify(prog, VerifyOptions(images=False))
+    assert report.findings == []
+    assert report.part.volume < 3.141592653589793 * 15**2 * 60  # the flats removed material
+
+
+def test_g0_through_the_stock_is_a_rapid_into_stock(tmp_path):
+    prog, line_of = variant(tmp_path, "N130 G1 Z-7.5 F400", "N130 G0 Z-7.5 F400")
+    report = verify(prog, VerifyOptions(images=False))
+    assert errors(report) == [("rapid_into_stock", line_of("N130"))]
+    f = next(f for f in report.findings if f.kind == "rapid_into_stock")
+    # what the plunge removes, computed independently: beyond the plane x = 12 inside the Ø30
+    # shaft, from the end face z = 0 down to the cutter's round edge z = -7.5 - sqrt(12.5² - y²)
+    y = np.linspace(-9.0, 9.0, 200001)
+    depth = np.sqrt(15.0**2 - y**2) - 12.0
+    length = 7.5 + np.sqrt(12.5**2 - y**2)
+    assert f.data["volume_mm3"] == pytest.approx(np.trapezoid(depth * length, y), rel=0.002)
+
+
+def test_tool_too_short_so_the_holder_touches_the_shoulder(tmp_path):
+    tools = (
+        POLYGON_TOOLS.read_text()
+        .replace("cutting_length = 38.0", "cutting_length = 2.0")
+        .replace("shank = { diameter = 25.0, length = 40.0 }", "shank = { diameter = 25.0, length = 0.5 }")
+    )
+    prog, line_of = variant(tmp_path, tools=tools)
+    report = verify(prog, VerifyOptions(images=False))
+    assert {k for k, _ in errors(report)} == {"holder_collision"}
+    hits = [f for f in report.findings if f.kind == "holder_collision"]
+    # the Ø50 holder, 2.5 mm behind the face at X = 14.5 < 15, meets the shaft's end already on
+    # the approach to X12 (it reaches 25 mm below Z15), reaches below the shoulder at z = -20
+    # while the tool plunges, and still touches it as the feed retract starts
+    assert {f.line for f in hits} == {line_of(n) for n in ("N120", "N130", "N140", "N170", "N180", "N190")}
+    # the 0.5 mm shank behind the 2 mm cutter rubs the material the cutter could not reach
+    assert {f.data["part"] for f in hits} == {"holder", "shank"}
+    retract = [f for f in hits if f.data["part"] == "holder" and f.line == line_of("N140")]
+    assert retract and retract[0].data["at_mm"][2] < -20  # what it touches is below the shoulder
+
+
+def test_x_beyond_travel_is_an_axis_limit(tmp_path):
+    prog, line_of = variant(tmp_path, "N110 G0 X40 Y0 Z15", "N110 G0 X340 Y0 Z15")
+    report = verify(prog, VerifyOptions(images=False))
+    assert errors(report) == [("axis_limit", line_of("N110"))]
+
+
+def test_rapid_into_the_chuck_jaws_is_a_fixture_collision(tmp_path):
+    prog, line_of = variant(tmp_path, "N140 G1 X40\n", "N140 G1 X40\nN145 G0 Z-72\n")
+    report = verify(prog, VerifyOptions(images=False))
+    errs = errors(report)
+    assert {k for k, _ in errs} == {"fixture_collision"}
+    assert errs[0][1] == line_of("N145")  # going down; the next rapid starts inside the jaw
+    assert {f.data["obstacle"] for f in report.findings if f.kind == "fixture_collision"} == {"jaw_1"}
+
+
+def test_cli_writes_report_and_pictures(tmp_path, capsys):
+    prog, line_of = variant(tmp_path, "N130 G1 Z-7.5 F400", "N130 G0 Z-7.5 F400")
+    out = tmp_path / "out"
+    assert main(["verify", str(prog), "--out", str(out), "--format", "json"]) == 1
+    data = json.loads((out / "report.json").read_text())
+    assert data == json.loads(capsys.readouterr().out)
+    assert [(f["kind"], f["line"]) for f in data["findings"]] == [("rapid_into_stock", line_of("N130"))]
+    assert set(data) >= {"program", "machine", "findings", "profile", "cycle_time_s", "images", "timings_s"}
+    assert data["cycle_time_s"] > 0 and data["cycle_time"]["per_tool"]
+    for name in ("toolpath", "collision_1"):
+        assert (out / data["images"][name]).stat().st_size > 1000

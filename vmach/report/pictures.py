@@ -1,0 +1,259 @@
+"""What the pictures show, computed with numpy; ``render`` (pyvista) only draws it.
+
+Pictures of a verify run (``make_pictures``):
+
+- ``toolpath.png`` — the tool tip's path in the workpiece frame, rapids red and feeds green;
+- ``x_of_c.png`` — X and Y of the program over one revolution of the rotary axis (the plots the
+  thesis used to find the path);
+- ``part_deviation.png`` — the cut part coloured by its signed deviation from the nominal
+  profile (mm), where the profile is checked;
+- ``collision_<n>.png`` — a close-up of each collision: tool, holder and stock at that moment.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from vmach.motion.table import TRAVERSE, MoveTable
+
+# -- meshes of primitives (numpy) ---------------------------------------------------------------
+
+
+def cylinder_mesh(radius: float, z0: float, z1: float, segments: int = 48) -> tuple[np.ndarray, np.ndarray]:
+    """Closed cylinder on the local z axis: vertices (2s + 2, 3), faces (4s, 3)."""
+    th = np.linspace(0, 2 * math.pi, segments, endpoint=False)
+    ring = np.column_stack([radius * np.cos(th), radius * np.sin(th)])
+    v = np.vstack(
+        [
+            np.column_stack([ring, np.full(segments, z0)]),
+            np.column_stack([ring, np.full(segments, z1)]),
+            [[0, 0, z0], [0, 0, z1]],
+        ]
+    )
+    i = np.arange(segments)
+    j = (i + 1) % segments
+    c0, c1 = 2 * segments, 2 * segments + 1
+    faces = np.vstack(
+        [
+            np.column_stack([i, j, j + segments]),
+            np.column_stack([i, j + segments, i + segments]),
+            np.column_stack([np.full(segments, c0), j, i]),
+            np.column_stack([np.full(segments, c1), i + segments, j + segments]),
+        ]
+    )
+    return v, faces
+
+
+def box_mesh(size) -> tuple[np.ndarray, np.ndarray]:
+    """Closed box centred on the origin, edge lengths ``size`` (3,)."""
+    h = np.asarray(size, float) / 2
+    v = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * h
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    faces = np.array([f for a, b, c, d in quads for f in ((a, b, c), (a, c, d))])
+    return v, faces
+
+
+def transformed(v: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """Vertices (n, 3) moved by a (4, 4) or (3, 4) transform."""
+    m = np.asarray(matrix, float)
+    return v @ m[:3, :3].T + m[:3, 3]
+
+
+# -- data of the pictures -------------------------------------------------------------------
+
+
+def toolpath_segments(
+    table: MoveTable, model, step_deg: float = 2.0, region: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Tool-tip segments in the work frame: points (s, 2, 3) mm and kinds (s,) (0 rapid, 1 feed).
+
+    Rows that turn a rotary axis are drawn as the curve the tip really follows (sampled every
+    ``step_deg``). region (2, 3): keep only segments with both ends inside (the tool change
+    trips to the turret position would shrink the part to a dot).
+    """
+    if len(table) == 0:
+        return np.zeros((0, 2, 3)), np.zeros(0, int)
+    d = np.abs(table.end - table.start)
+    rot = d[:, table.rotary].max(axis=1) if table.rotary.any() else np.zeros(len(table))
+    n = np.maximum(1, np.ceil(rot / step_deg)).astype(int)
+    owner = np.repeat(np.arange(len(table)), n + 1)
+    t = np.concatenate([np.linspace(0, 1, k + 1) for k in n])
+    q = table.start[owner] + t[:, None] * (table.end - table.start)[owner]
+    tips = model.fk(table.columns(model.axes, model.home, q)).tip
+    first = np.r_[0, np.cumsum(n + 1)[:-1]]
+    idx = np.concatenate([np.arange(f, f + k) for f, k in zip(first, n, strict=True)])
+    seg = np.stack([tips[idx], tips[idx + 1]], axis=1)
+    kinds = (table.kind[owner[idx]] != TRAVERSE).astype(int)
+    if region is not None:
+        inside = np.all((seg >= region[0]) & (seg <= region[1]), axis=(1, 2))
+        seg, kinds = seg[inside], kinds[inside]
+    return seg, kinds
+
+
+def one_revolution(table: MoveTable, axis: str) -> np.ndarray | None:
+    """Rows of the longest stretch of feed moves turning ``axis`` one way, cut to one revolution."""
+    if axis not in table.axes or len(table) == 0:
+        return None
+    c = table.axes.index(axis)
+    dc = table.end[:, c] - table.start[:, c]
+    feed = table.kind != TRAVERSE
+    good = feed & (dc > 0)
+    best, run = (0, 0), None
+    for i, g in enumerate(np.r_[good, False]):
+        if g and run is None:
+            run = i
+        elif not g and run is not None:
+            if i - run > best[1] - best[0]:
+                best = (run, i)
+            run = None
+    if best[1] - best[0] < 3:
+        return None
+    rows = np.arange(*best)
+    travel = table.end[rows, c] - table.start[rows[0], c]
+    return rows[travel <= 360.0 + 1e-9]
+
+
+def deviation_per_vertex(
+    vertices: np.ndarray, profile, phase_deg: float, z_lo: float, z_hi: float
+) -> np.ndarray:
+    """Signed normal deviation (mm, > 0 material outside the nominal) of part vertices between
+    z_lo and z_hi; NaN elsewhere."""
+    out = np.full(len(vertices), np.nan)
+    sel = (vertices[:, 2] >= z_lo) & (vertices[:, 2] <= z_hi)
+    if sel.any():
+        out[sel] = profile.signed_distance(vertices[sel, :2], math.radians(phase_deg))
+    return out
+
+
+def make_pictures(report, out_dir: Path) -> dict[str, str]:
+    """Render every picture of a verify report into ``out_dir``; returns name -> file name."""
+    from vmach.report import render
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    table, model = report.table, report.model
+    images: dict[str, str] = {}
+    part = report.part
+    outline = part.mesh("part") if part is not None else None
+    region = None
+    if part is not None:
+        b = np.asarray(part.initial_bounds, float)
+        pad = 0.5 * float(np.max(b[1] - b[0]))
+        region = np.stack([b[0] - pad, b[1] + pad])
+    seg, kinds = toolpath_segments(table, model, region=region)
+    if len(seg):
+        render.toolpath_png(
+            out_dir / "toolpath.png",
+            seg,
+            kinds,
+            outline,
+            title=f"{Path(report.program).name}: tool path (rapid red, feed green)",
+        )
+        images["toolpath"] = "toolpath.png"
+    rot = [a for a, r in zip(table.axes, table.rotary, strict=True) if r]
+    if rot:
+        rows = one_revolution(table, rot[0])
+        if rows is not None and len(rows):
+            c = table.axes.index(rot[0])
+            cc = np.mod(table.end[rows, c], 360.0)
+            order = np.argsort(cc)
+            series = []
+            for axis, colour in (("X", "b"), ("Y", "r")):
+                if axis in table.axes:
+                    series.append((cc[order], table.end[rows, table.axes.index(axis)][order], axis, colour))
+            render.chart_png(
+                out_dir / "x_of_c.png",
+                series,
+                f"{rot[0]} [deg]",
+                "mm",
+                title=f"X and Y over one revolution of {rot[0]} (lines "
+                f"{int(table.line[rows[0]])}..{int(table.line[rows[-1]])})",
+            )
+            images["x_of_c"] = "x_of_c.png"
+    if part is not None and report.profile is not None and report.profile_spec is not None:
+        from vmach.checks.polygon import parse_profile
+
+        v, f = outline
+        prof = parse_profile(report.profile_spec)
+        z = [s["z"] for s in report.profile["stations"]]
+        dev = deviation_per_vertex(v, prof, report.profile["phase_deg"], min(z), max(z))
+        lo, hi = report.profile["tolerance_mm"]
+        span = max(abs(lo), abs(hi), float(np.nanmax(np.abs(dev))) if np.isfinite(dev).any() else 0.0)
+        render.part_deviation_png(
+            out_dir / "part_deviation.png",
+            v,
+            f,
+            dev,
+            (-span, span),
+            title=f"{report.profile_spec}: deviation from nominal, band "
+            f"[{lo * 1000:+.1f}, {hi * 1000:+.1f}] µm",
+        )
+        images["part_deviation"] = "part_deviation.png"
+    images.update(collision_pictures(report, out_dir))
+    return images
+
+
+COLLISION_KINDS = ("rapid_into_stock", "holder_collision", "fixture_collision")
+
+
+def collision_pictures(report, out_dir: Path, most: int = 8) -> dict[str, str]:
+    """A close-up per collision finding (first ``most``): the tool with shank and holder at the
+    move's end, the stock as it was then (when the stock stage kept it), fixtures."""
+    from vmach.checks.collisions import tool_cylinders
+    from vmach.report import render
+
+    table, model = report.table, report.model
+    lib = report.library
+    snaps = getattr(report.sim, "snapshots", {}) if report.sim is not None else {}
+    out: dict[str, str] = {}
+    found = [
+        f
+        for f in sorted(report.findings, key=lambda f: f.line or 0)
+        if f.kind in COLLISION_KINDS and f.move_index is not None
+    ]
+    for n, f in enumerate(found[:most], 1):
+        row = int(f.move_index)
+        name = table.tools[int(table.tool[row])] if table.tool[row] >= 0 else None
+        tool = lib.lookup(name) if (lib is not None and name is not None) else None
+        q = table.columns(model.axes, model.home, table.end[row : row + 1])
+        t2w = model.tool2work(q)[0]
+        meshes = []
+        if tool is not None:
+            colours = {"cutter": "gold", "shank": "silver", "holder": "dimgray"}
+            for c in tool_cylinders(tool):
+                v, fc = cylinder_mesh(c.radius, c.z0, c.z1)
+                meshes.append((transformed(v, t2w), fc, colours[c.part], 1.0))
+        snap = snaps.get(row)
+        if snap is None and report.part is not None:
+            snap = report.part.mesh("part")
+        if snap is not None:
+            meshes.append((snap[0], snap[1], "lightsteelblue", 0.6))
+        if f.kind == "fixture_collision":
+            frames = model.link2base(q)
+            w2b = np.linalg.inv(frames["work"][0])
+            for g in model.spec.geometry:
+                if g.shape not in ("box", "cylinder"):
+                    continue
+                v, fc = (
+                    box_mesh(g.size)
+                    if g.shape == "box"
+                    else cylinder_mesh(g.radius, -g.length / 2, g.length / 2)
+                )
+                m = w2b @ frames[g.link][0] @ g.origin.matrix
+                meshes.append(
+                    (transformed(v, m), fc, "tomato" if g.name == f.data.get("obstacle") else "wheat", 0.8)
+                )
+        at = np.asarray(f.data.get("at_mm", t2w[:3, 3]), float)
+        radius = 40.0 if tool is None else max(20.0, 1.5 * tool.diameter)
+        fname = f"collision_{n}.png"
+        render.scene_png(
+            out_dir / fname,
+            meshes,
+            (at, radius),
+            title=f"{f.kind} at {Path(f.source.path).name}:{f.line}",
+            marker=at,
+        )
+        out[f"collision_{n}"] = fname
+    return out
