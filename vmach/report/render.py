@@ -20,6 +20,11 @@ FOREGROUND = "black"
 
 
 def _plotter(size: tuple[int, int] = WINDOW):
+    import os
+
+    if not os.environ.get("DISPLAY"):
+        # no X server: go straight to EGL (Mesa) instead of trying X first and warning
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista as pv
 
     pv.OFF_SCREEN = True
