@@ -193,6 +193,13 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         report.timing = timing
         report.findings.extend(_rate_findings(model, table))
 
+    if report.stock_spec is None:
+        from vmach.blank import stock_from_program
+
+        declared = stock_from_program(result.commands)
+        if declared is not None:
+            report.stock_spec, notes = declared
+            report.findings.extend(Finding("workpiece", "info", n) for n in notes)
     spec = report.stock_spec
     if spec and library is not None:
         with clock("stock"):

@@ -107,3 +107,23 @@ def test_cli_writes_report_and_pictures(tmp_path, capsys):
     assert data["cycle_time_s"] > 0 and data["cycle_time"]["per_tool"]
     for name in ("toolpath", "collision_1"):
         assert (out / data["images"][name]).stat().st_size > 1000
+
+
+def test_stock_from_the_programs_workpiece_block(tmp_path):
+    prog, _ = variant(tmp_path, "N10 TRANS\n", 'N5 WORKPIECE(,"",,"CYLINDER",192,0,-60,-80,30)\nN10 TRANS\n')
+    setup = prog.parent / "vmach.toml"
+    setup.write_text("\n".join(ln for ln in setup.read_text().splitlines() if not ln.startswith("stock")))
+    report = verify(prog, VerifyOptions(images=False))
+    assert report.stock_spec == "cylinder:d=30,l=60,z=0"
+    assert report.findings == [] and report.part is not None
+
+
+def test_unknown_workpiece_form_is_a_clear_error(tmp_path, capsys):
+    prog, line_of = variant(
+        tmp_path, "N10 TRANS\n", 'N5 WORKPIECE(,"",,"CONE",192,0,-60,-80,30)\nN10 TRANS\n'
+    )
+    setup = prog.parent / "vmach.toml"
+    setup.write_text("\n".join(ln for ln in setup.read_text().splitlines() if not ln.startswith("stock")))
+    assert main(["verify", str(prog), "--out", str(tmp_path / "o"), "--no-images"]) == 2
+    err = capsys.readouterr().err
+    assert f"FLATS.MPF:{line_of('N5')}:1: error[workpiece]" in err and "Traceback" not in err
