@@ -42,6 +42,7 @@ class VerifyOptions:
     max_blocks: int = 10_000_000
     quiet: bool = True
     export: tuple[str, ...] = ()
+    clearance: float = 1.0  # near-miss distance for rapids, mm
 
 
 @dataclass
@@ -232,7 +233,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
                 for i, name in enumerate(table.tools)
                 if (t := library.lookup(name)) is not None
             }
-            report.findings.extend(fixture_collisions(model, table, cyl))
+            report.findings.extend(fixture_collisions(model, table, cyl, clearance=options.clearance))
 
     if options.images and options.out is not None:
         with clock("pictures"):

@@ -34,6 +34,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", help="directory for report.json and the pictures (default: out/<program>)")
     p.add_argument("--no-images", action="store_true", help="skip the PNG pictures")
     p.add_argument("--format", choices=("text", "json"), default="text")
+    p.add_argument("--clearance", type=float, default=tol.near_miss,
+                   help=f"near-miss distance for rapids, mm (default {tol.near_miss})")
     p.add_argument("--max-blocks", type=int, default=tol.max_blocks)
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -41,6 +43,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     if args.max_blocks < 1:
         raise InputError("--max-blocks must be at least 1", kind="usage")
+    if not args.clearance >= 0:
+        raise InputError("--clearance must be a distance >= 0 mm", kind="usage")
     out = Path(args.out) if args.out else Path("out") / Path(args.program).stem
     options = VerifyOptions(
         machine=args.machine,
@@ -54,6 +58,7 @@ def run(args: argparse.Namespace) -> int:
         max_blocks=args.max_blocks,
         quiet=args.quiet or not sys.stderr.isatty(),
         export=tuple(args.export),
+        clearance=args.clearance,
         profile_stations=args.stations,
     )
     report = verify(args.program, options)
