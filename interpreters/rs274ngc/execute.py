@@ -18,7 +18,9 @@ END = 1
 
 
 def _num(v: float) -> str:
-    return "%f" % (0.0 if abs(v) < 0.0001 else v)
+    """A parameter in a DEBUG/PRINT/LOG text: ``%lf`` into LinuxCNC's 30-byte buffer."""
+    text = "%f" % (0.0 if abs(v) < 0.0001 else v)
+    return text if len(text) < 30 else "######"
 
 
 class ExecuteMixin:

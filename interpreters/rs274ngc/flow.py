@@ -1,9 +1,20 @@
-"""O-word control flow: subroutines and structured loops/branches (interp_o_word.cc).
+"""O-word control flow: subroutines, loops and branches, as LinuxCNC 2.9 runs them.
 
-Labels (``o100``, ``o<name>``) of sub/endsub/call/return are global; the others are local to
-the subroutine they appear in. A block that is not taken is *skipped*: lines are read up to
-the next O-word with the same label of an expected kind; only the conditions of O-words of
-that label are evaluated on the way, as LinuxCNC reads them (errors included).
+LinuxCNC's model (interp_o_word.cc, convert_control_functions) is a small state machine, and
+this module follows it rather than a structured reading, so that programs with misplaced
+labels behave (and fail) the same way:
+
+* Labels of sub/endsub/call/return are global; the others are local to the subroutine they
+  are in, i.e. qualified by its name (``"#10"`` in the main program, ``"name#10"`` in a
+  subroutine). A table remembers, per qualified label, the first O-word seen with it (kind,
+  line, and the count of a ``repeat``); reusing a label elsewhere is a duplicate.
+* A branch or loop that is not taken sets *skipping* to its label: following lines are read
+  but not executed, up to the next O-word **with that label**, whatever its kind; that
+  O-word is then handled as if executed (it may stop the skipping, or not). Reading such a
+  line evaluates its condition (errors included); other lines are not evaluated at all.
+* A few global flags carry over between structures, as in LinuxCNC: ``executed_if`` (has a
+  branch of the current if run), ``doing_break`` and ``doing_continue``. The latter two are
+  not always reset by LinuxCNC, which this reproduces (see DEVIATIONS.md for what shows).
 
 Subroutines are found, in this order: already defined (a ``sub`` met earlier, which is then
 skipped up to its ``endsub``), the file ``<name>.ngc`` in the directory of the main program
@@ -25,25 +36,31 @@ _SAFE_NAME = re.compile(r"[a-z0-9_][a-z0-9_.\-]*")
 #: LinuxCNC runs the main program and at most 9 nested calls (INTERP_SUB_ROUTINE_LEVELS)
 MAX_CALL_LEVELS = 10
 _CONDITIONS = frozenset(("if", "elseif", "while", "repeat"))
+_GLOBAL = frozenset(("sub", "endsub", "call", "return"))
 
 
 class Frame:
-    """One call level.
+    """One call level: where to continue after the return, the sub's name, saved #1..#30."""
 
-    prog, pc : where to continue after the return (unused for the main program).
-    labels : label -> (kind of the opening O-word, line index), for matching checks.
-    stack : open control structures, innermost last: [kind, label, line index, count].
-    """
-
-    __slots__ = ("prog", "pc", "name", "saved", "labels", "stack")
+    __slots__ = ("prog", "pc", "name", "saved")
 
     def __init__(self, prog=None, pc=0, name="", saved=None):
         self.prog = prog
         self.pc = pc
         self.name = name
         self.saved = saved
-        self.labels: dict[str, tuple[str, int]] = {}
-        self.stack: list[list] = []
+
+
+class Label:
+    """What the label table holds for one qualified label (LinuxCNC's offset_map entry)."""
+
+    __slots__ = ("kind", "prog", "index", "count")
+
+    def __init__(self, kind: str, prog, index: int):
+        self.kind = kind
+        self.prog = prog
+        self.index = index
+        self.count = -1  # repeat: iterations left; -1 = to be computed
 
 
 class FlowMixin:
@@ -55,9 +72,22 @@ class FlowMixin:
         self.seeking: tuple | None = None
         self.test_value = 0.0  # the condition or return value of the O-line last read
         self.call_args: list[float] | tuple = ()
-        self.defining = False  # skipping a subroutine definition
+        self.defining: str | None = None  # the subroutine whose definition is skipped
+        self.is_defining = False  # reading a value of that definition
+        self.skipping: str | None = None  # the qualified label skipped to
+        self.labels: dict[str, Label] = {}
+        self.executed_if = False
+        self.doing_break = False
+        self.doing_continue = False
 
-    # -- dispatch -----------------------------------------------------------------------------
+    def qualified(self, o) -> str:
+        if o.kind in _GLOBAL:
+            return o.name
+        if len(self.frames) > 1:
+            return self.frames[-1].name + "#" + o.name
+        return (self.defining or "") + "#" + o.name
+
+    # -- reading and dispatch -------------------------------------------------------------------
 
     def control(self, line):
         """Execute an O-line: as LinuxCNC reads the whole line first, its condition or
@@ -73,93 +103,103 @@ class FlowMixin:
             self.call_args = ()
         if o.trailing_error is not None:
             raise o.trailing_error
-        handler = getattr(self, "o_" + o.kind)
-        return handler(line, o)
+        getattr(self, "o_" + o.kind)(line, o, self.qualified(o))
+        if self.skipping is not None:
+            self.skip()
 
-    def read_skipped(self, line, o, name: str, defining: bool) -> None:
-        """What LinuxCNC evaluates of an O-line it reads while skipping to label ``name``:
-        the condition of an if/elseif/while/repeat of that label (not while skipping a
-        subroutine definition) and the value of that subroutine's endsub/return."""
-        if o.name != name:
-            return
-        kind = o.kind
-        if kind in _CONDITIONS:
-            if defining:
-                return
-        elif kind not in ("endsub", "return") or not defining:
-            return
-        if o.value_error is not None:
-            raise o.value_error
-        if o.value is not None:
-            self.defining = defining
-            try:
-                self.test_value = evaluate(o.value, self)
-            finally:
-                self.defining = False
-
-    def _check_label(self, line, o, kinds: tuple[str, ...]) -> None:
-        labels = self.frames[-1].labels
-        seen = labels.get(o.name)
-        if seen is None:
-            raise NgcError("undefined_label", line=line.number, text=line.raw.strip())
-        if seen[0] not in kinds:
-            raise NgcError("no_matching_label", line=line.number, text=line.raw.strip(),
-                           found=seen[0], other=seen[1] + 1)
-
-    def _open_label(self, line, o, kind: str) -> None:
-        labels = self.frames[-1].labels
-        seen = labels.get(o.name)
-        if seen is not None and seen[1] != self.index and seen[0] != "do":
-            raise NgcError("duplicate_label" if kind == "if" else "duplicate_loop_label",
-                           line=line.number, other=seen[1] + 1, text=line.raw.strip())
-        labels[o.name] = (kind, self.index)
-
-    def skip_to(self, name: str, kinds: tuple[str, ...], nested_sub: bool = False):
-        """Read lines without executing them up to O-word ``name`` of one of ``kinds``.
-
-        As LinuxCNC reads every O-word of the label it skips to, the conditions of that
-        label's lines are evaluated on the way (and may fail; see :meth:`read_skipped`).
-        """
+    def skip(self) -> None:
+        """Read lines without executing them while a label is skipped to: an O-word of that
+        label is read (its condition evaluated) and handled, which may end the skipping."""
         prog = self.prog
         n = len(prog.raw)
-        pc = self.pc
-        while pc < n:
+        out = self.out
+        while self.skipping is not None:
+            pc = self.pc
+            if pc >= n:
+                self.end_of_file()
             line = prog.lines[pc] or prog.line(pc)
             self.index = pc
             self.line = line
-            pc += 1
+            self.pc = pc + 1
             if line.skip_error is not None:
-                self.pc = pc
                 raise line.skip_error
-            if line.o_error and (line.o_error is True or not nested_sub):
-                self.pc = pc
+            if line.percent and self.percent:
+                out.finish(end=False)
+                raise NgcError("percent_while_skipping", name=self.skipping)
+            defining = self.defining is not None
+            if line.o_error and (line.o_error is True or not defining):
                 raise line.error
             o = line.o
             if o is None:
                 continue
-            if nested_sub and o.kind == "sub":
-                self.pc = pc
+            kind = o.kind
+            if defining and kind == "sub":
                 raise NgcError("nested_sub_definition", o.col)
-            if o.name == name:
-                self.pc = pc
-                self.read_skipped(line, o, name, nested_sub)
-            if o.name == name and o.kind in kinds:
-                self.pc = pc
-                out = self.out
-                if out.trace:
-                    out.nlabel = n_label(line.raw)
-                if out.want:
-                    out.src = prog.ref(self.index)
-                return line
-        self.pc = pc
-        self.end_of_file()
+            name = self.qualified(o)
+            if name != self.skipping or kind == "call":
+                continue
+            if kind in _CONDITIONS or kind == "endsub" or kind == "return":
+                if defining and kind in _CONDITIONS:
+                    continue
+                if o.value_error is not None:
+                    raise o.value_error
+                if o.value is not None:
+                    self.test_value = self._read_value(o.value, defining)
+            elif defining:
+                continue
+            if out.trace:
+                out.nlabel = n_label(line.raw)
+            if out.want:
+                out.src = prog.ref(pc)
+            getattr(self, "o_" + kind)(line, o, name)
+            if self.prog is not prog:
+                prog = self.prog
+                n = len(prog.raw)
+
+    def _read_value(self, value, defining: bool) -> float:
+        if not defining:
+            return evaluate(value, self)
+        self.is_defining = True  # LinuxCNC reads undefined named parameters as 0 here
+        try:
+            return evaluate(value, self)
+        finally:
+            self.is_defining = False
+
+    # -- the label table ------------------------------------------------------------------------
+
+    def _text(self, line) -> str:
+        return line.raw.rstrip()  # LinuxCNC keeps the indentation
+
+    def _find(self, line, name: str, kinds: tuple[str, ...], kind_error: str) -> Label:
+        """The label an elseif/else/endif/break/continue/endwhile/endrepeat refers to."""
+        label = self.labels.get(name)
+        if label is None:
+            raise NgcError("undefined_label", line=line.number, text=self._text(line))
+        if label.kind not in kinds:
+            raise NgcError(kind_error, line=line.number, text=self._text(line), name=name,
+                           found=label.kind, other=label.index + 1)
+        return label
+
+    def _open(self, line, name: str, kind: str, duplicate: str) -> Label:
+        """Record the label of an if/while/repeat, or check it is this very line."""
+        label = self.labels.get(name)
+        if label is None:
+            label = self.labels[name] = Label(kind, self.prog, self.index)
+        elif label.index != self.index and (kind != "while" or label.kind != "do"):
+            raise NgcError(duplicate, line=line.number, other=label.index + 1,
+                           text=self._text(line))
+        return label
+
+    def _back_to(self, label: Label) -> None:
+        """Continue at the line of ``label`` (which is read and executed again)."""
+        self.prog = label.prog
+        self.pc = label.index
 
     # -- subroutines --------------------------------------------------------------------------
 
-    def o_sub(self, line, o):
-        name = o.name
-        if len(self.frames) > 1:
-            raise NgcError("nested_sub_definition", o.col)
+    def o_sub(self, line, o, name):
+        if len(self.frames) > 1:  # a definition inside a called subroutine: LinuxCNC runs on
+            return None
         known = self.subs.get(name)
         if known is not None:
             prog, index = known
@@ -169,9 +209,11 @@ class FlowMixin:
             raise NgcError("sub_redefined", file=self.prog.path, line=line.number, name=name,
                            other=prog.path)
         self.subs[name] = (self.prog, self.index)
-        self.skip_to(name, ("endsub",), nested_sub=True)
+        self.defining = name
+        self.skipping = name
+        return None
 
-    def o_call(self, line, o):
+    def o_call(self, line, o, name):
         args = self.call_args
         if len(self.frames) >= min(self.options.max_call_depth, MAX_CALL_LEVELS):
             raise NgcError("call_depth", o.col)
@@ -180,7 +222,7 @@ class FlowMixin:
         num = self.pars.num
         for i in range(30):
             num[1 + i] = args[i] if i < len(args) else 0.0
-        self.frames.append(Frame(self.prog, self.pc, o.name, saved))
+        self.frames.append(Frame(self.prog, self.pc, name, saved))
         self.pars.locals.append({})
         self.prog = prog
         self.pc = index + 1
@@ -209,7 +251,7 @@ class FlowMixin:
         # search further down the current file
         here_prog, here_pc, here_index = self.prog, self.pc, self.index
         self.seeking = (name, line.number, self.prog.path)
-        self.skip_to(name, ("sub",))
+        self._seek_sub(name)
         self.seeking = None
         found = (self.prog, self.index)
         self.subs[name] = found
@@ -217,18 +259,44 @@ class FlowMixin:
         self.line = line
         return found
 
-    def o_endsub(self, line, o):
+    def _seek_sub(self, name: str) -> None:
+        prog = self.prog
+        n = len(prog.raw)
+        pc = self.pc
+        while pc < n:
+            line = prog.lines[pc] or prog.line(pc)
+            self.index = pc
+            self.line = line
+            pc += 1
+            if line.skip_error is not None:
+                raise line.skip_error
+            if line.percent and self.percent:
+                self.out.finish(end=False)
+                raise NgcError("percent_while_skipping", name=name)
+            if line.o_error:
+                raise line.error
+            o = line.o
+            if o is not None and o.kind == "sub" and o.name == name:
+                self.pc = pc
+                return
+        self.pc = pc
+        self.end_of_file()
+
+    def o_endsub(self, line, o, name):
         return self._return(line, o)
 
-    def o_return(self, line, o):
+    def o_return(self, line, o, name):
         return self._return(line, o)
 
     def _return(self, line, o):
-        value = None if o.value is None else self.test_value
         if len(self.frames) == 1:
-            if o.kind == "endsub":
-                raise NgcError("not_in_sub", line=line.number, text=line.raw.strip())
+            if self.defining is None:
+                raise NgcError("not_in_sub", line=line.number, text=self._text(line))
+            if o.kind == "endsub":  # the end of a definition
+                self.defining = None
+                self.skipping = None
             return None
+        value = None if o.value is None else self.test_value
         frame = self.frames.pop()
         self.pars.locals.pop()
         self.pars.num[1:31] = frame.saved
@@ -241,126 +309,89 @@ class FlowMixin:
 
     # -- branches -------------------------------------------------------------------------------
 
-    def o_if(self, line, o):
-        self._open_label(line, o, "if")
-        frame = self.frames[-1]
+    def o_if(self, line, o, name):
+        self._open(line, name, "if", "duplicate_label")
         if self.test_value != 0.0:
-            frame.stack.append(["if", o.name, self.index, 0])
-            return None
-        while True:
-            ln = self.skip_to(o.name, ("elseif", "else", "endif"))
-            kind = ln.o.kind
-            if kind == "endif":
-                return None
-            if kind == "else" or self.test_value != 0.0:
-                frame.stack.append(["if", o.name, self.index, 0])
-                return None
+            self.skipping = None
+            self.executed_if = True
+        else:
+            self.skipping = name
+            self.executed_if = False
 
-    def o_elseif(self, line, o):
-        """Reached after a taken branch (its condition was evaluated all the same)."""
-        self._check_label(line, o, ("if",))
-        self._pop(o.name)
-        self.skip_to(o.name, ("endif",))
+    def o_elseif(self, line, o, name):
+        self._find(line, name, ("if",), "no_matching_if_label")
+        if self.executed_if:
+            self.skipping = name
+        elif self.test_value != 0.0:
+            self.skipping = None
+            self.executed_if = True
 
-    def o_else(self, line, o):
-        self.o_elseif(line, o)
+    def o_else(self, line, o, name):
+        self._find(line, name, ("if",), "no_matching_if_label")
+        if self.executed_if:
+            self.skipping = name
+        elif self.skipping == name:
+            self.executed_if = True
+            self.skipping = None
 
-    def o_endif(self, line, o):
-        self._check_label(line, o, ("if",))
-        self._pop(o.name)
-
-    def _pop(self, name: str):
-        stack = self.frames[-1].stack
-        for k in range(len(stack) - 1, -1, -1):
-            if stack[k][1] == name:
-                entry = stack[k]
-                del stack[k:]
-                return entry
-        return None
-
-    def _top(self, name: str):
-        stack = self.frames[-1].stack
-        for k in range(len(stack) - 1, -1, -1):
-            if stack[k][1] == name:
-                del stack[k + 1 :]
-                return stack[k]
-        return None
+    def o_endif(self, line, o, name):
+        self._find(line, name, ("if",), "no_matching_endif_label")
+        self.skipping = None
+        self.executed_if = True
 
     # -- loops --------------------------------------------------------------------------------
 
-    def o_do(self, line, o):
-        self._open_label(line, o, "do")
-        entry = self._top(o.name)
-        if entry is None or entry[2] != self.index:
-            self.frames[-1].stack.append(["do", o.name, self.index, 0])
+    def o_do(self, line, o, name):
+        self.skipping = None
+        if name not in self.labels:
+            self.labels[name] = Label("do", self.prog, self.index)
 
-    def o_while(self, line, o):
-        frame = self.frames[-1]
-        entry = self._top(o.name)
-        if entry is not None and entry[0] == "do":
-            if self.test_value != 0.0:
-                self.pc = entry[2] + 1
-            else:
-                self._pop(o.name)
-            return None
-        self._open_label(line, o, "while")
-        if self.test_value != 0.0:
-            if entry is None or entry[2] != self.index:
-                frame.stack.append(["while", o.name, self.index, 0])
-            return None
-        if entry is not None:
-            self._pop(o.name)
-        self.skip_to(o.name, ("endwhile",))
-        return None
-
-    def o_endwhile(self, line, o):
-        self._check_label(line, o, ("while",))
-        entry = self._top(o.name)
-        if entry is None:
-            return None
-        self.pc = entry[2]
-        return None
-
-    def o_repeat(self, line, o):
-        self._open_label(line, o, "repeat")
-        count = round(self.test_value)
-        if count <= 0:
-            self.skip_to(o.name, ("endrepeat",))
-            return None
-        self.frames[-1].stack.append(["repeat", o.name, self.index, count])
-        return None
-
-    def o_endrepeat(self, line, o):
-        self._check_label(line, o, ("repeat",))
-        entry = self._top(o.name)
-        if entry is None:
-            return None
-        entry[3] -= 1
-        if entry[3] > 0:
-            self.pc = entry[2] + 1
+    def o_while(self, line, o, name):
+        label = self._open(line, name, "while", "duplicate_loop_label")
+        self.skipping = None
+        if label.kind == "while":
+            if self.test_value == 0.0:
+                self.skipping = name
+        elif self.test_value != 0.0 and not self.doing_break:  # the end of a do loop
+            self._back_to(label)
         else:
-            self._pop(o.name)
-        return None
+            self.doing_break = False
 
-    def o_break(self, line, o):
-        entry = self._pop(o.name)
-        kind = entry[0] if entry is not None else None
-        closer = {"while": ("endwhile",), "repeat": ("endrepeat",), "do": ("while",)}.get(
-            kind, ("endwhile", "endrepeat"))
-        self.skip_to(o.name, closer)
+    def o_repeat(self, line, o, name):
+        label = self._open(line, name, "repeat", "duplicate_loop_label")
+        self.skipping = None
+        if label.count == -1:
+            label.count = round(self.test_value)
+        if label.count > 0:
+            label.count -= 1
+        else:
+            self.skipping = name
+            label.count = -1
 
-    def o_continue(self, line, o):
-        entry = self._top(o.name)
-        if entry is None:
-            self.skip_to(o.name, ("endwhile", "endrepeat", "while"))
-            return None
-        if entry[0] == "repeat":
-            entry[3] -= 1
-            if entry[3] > 0:
-                self.pc = entry[2] + 1
-            else:
-                self._pop(o.name)
-                self.skip_to(o.name, ("endrepeat",))
-            return None
-        self.pc = entry[2]
-        return None
+    def o_break(self, line, o, name):
+        self._find(line, name, ("while", "do"), "no_matching_loop_label")
+        self.skipping = name
+        self.doing_break = True
+
+    def o_continue(self, line, o, name):
+        self._find(line, name, ("while", "do"), "no_matching_loop_label")
+        if self.skipping == name:
+            return
+        self.skipping = name
+        self.doing_continue = True
+
+    def o_endwhile(self, line, o, name):
+        self._end_loop(line, name, "while")
+
+    def o_endrepeat(self, line, o, name):
+        self._end_loop(line, name, "repeat")
+
+    def _end_loop(self, line, name: str, kind: str) -> None:
+        label = self._find(line, name, (kind,), "no_matching_label")
+        if self.skipping == name:
+            self.skipping = None
+            if self.doing_continue:
+                self.doing_continue = False
+                self._back_to(label)
+        else:
+            self._back_to(label)

@@ -121,7 +121,7 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
     def named(self, name: str) -> float:
         v = self.named_value(name)
         if v is None:
-            if self.defining:  # LinuxCNC reads endsub values of a definition leniently
+            if self.is_defining:  # LinuxCNC reads endsub values of a definition leniently
                 return 0.0
             raise NgcError("undefined_parameter", name=name)
         return v

@@ -356,10 +356,11 @@ class Output:
         if self.want:
             self._c(vc.ProgramEnd(self.src, code=code))
 
-    def finish(self) -> None:
+    def finish(self, end: bool = True) -> None:
+        """The closing ``%``: FINISH() (and, unless the run fails there, ProgramEnd)."""
         if self.trace:
             self._p("FINISH()")
-        if self.want:
+        if self.want and end:
             self._c(vc.ProgramEnd(self.src, code="%"))
 
 
