@@ -107,7 +107,15 @@ def _check_structure(prog: Program, directory: Path) -> list[Finding]:
             calls.append((name, i, o.col))
             continue
         if kind in ("return", "break", "continue", "else", "elseif"):
-            if not any(n == name for _, n, _ in stack) and kind != "return":
+            opener = next((k for k, n, _ in reversed(stack) if n == name), None)
+            if opener is None and kind != "return":
+                findings.append(_unmatched(prog, i, o))
+            elif kind in ("break", "continue") and opener not in ("while", "do"):
+                findings.append(error(
+                    "no_matching_loop_label",
+                    f"o{_label(name)} {kind} must be inside a while or do loop of that label "
+                    f"(not {opener})", prog.ref(i, o.col)))
+            elif kind in ("else", "elseif") and opener != "if":
                 findings.append(_unmatched(prog, i, o))
             continue
         if kind == "while" and stack and stack[-1][0] == "do" and stack[-1][1] == name:

@@ -117,3 +117,13 @@ def test_check_missing_end_and_unsupported(tmp_path):
     ]
     assert _check(tmp_path, "G0 X1\n", "b.ngc") == [("file_ended", 1, 1)]
     assert _check(tmp_path, "%\nG0 X1\n%\n", "c.ngc") == []
+
+
+def test_check_break_and_else_need_the_right_structure(tmp_path):
+    text = ("o1 repeat [2]\n  o1 break\no1 endrepeat\n"
+            "o2 while [0]\n  o2 else\no2 endwhile\n"
+            "o3 do\n  o3 continue\no3 while [0]\nM2\n")
+    assert _check(tmp_path, text) == [
+        ("no_matching_loop_label", 2, 3),
+        ("unmatched_o_word", 5, 3),
+    ]
