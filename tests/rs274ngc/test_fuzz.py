@@ -30,6 +30,8 @@ _extras = st.sampled_from([
     "o1 sub", "o1 endsub", "o1 call [2]", "o2 if [#1 GT 1]", "o2 else", "o2 endif",
     "o3 while [#1 LT 3]", "#1=[#1+1]", "o3 endwhile", "o4 repeat [2]", "o4 endrepeat",
     "o5 do", "o5 while [0]", "o6 break", "o<x> call", "%", "/G0 X1", "M2", "M30", "T1 M6",
+    "o2 elseif [#1]", "o3 break", "o3 continue", "o5 continue", "o4 break", "o1 return [1/0]",
+    "o3 endwhile junk", "o2 if [1 +]", "o7 foo", "o1 endsub [#<nope>]", "#<q>=[#<q>+1]",
     "G43 H1", "G10 L2 P1 X1", "G10 L20 P2 Y1", "G2 X1 Y1 R1", "G3 I1 J0", "(", ")", "&",
 ])
 _line = st.one_of(st.lists(_word, min_size=0, max_size=6).map(" ".join), _extras)
