@@ -38,14 +38,7 @@ class Cylinder:
 
 def tool_cylinders(tool) -> list[Cylinder]:
     """Cutting part, shank and holder of a :class:`vmach.tooling.model.Tool`, stacked from the tip."""
-    out = [Cylinder("cutter", 0.0, tool.cutting_length, tool.radius)]
-    z = tool.cutting_length
-    if tool.shank_length > 0 and tool.shank_diameter > 0:
-        out.append(Cylinder("shank", z, z + tool.shank_length, tool.shank_diameter / 2))
-        z += tool.shank_length
-    if tool.holder_length > 0 and tool.holder_diameter > 0:
-        out.append(Cylinder("holder", z, z + tool.holder_length, tool.holder_diameter / 2))
-    return out
+    return [Cylinder(*part) for part in tool.stack()]
 
 
 def surface_points(parts: list[Cylinder], step: float) -> tuple[np.ndarray, np.ndarray]:

@@ -59,13 +59,7 @@ def profile_png(
     plotter.view_xy()
     plotter.enable_parallel_projection()
     plotter.reset_camera()
-    try:
-        plotter.screenshot(str(out))
-    except OSError as exc:
-        raise InputError(f"{out}: cannot write: {exc.strerror or exc}", kind="unwritable") from None
-    finally:
-        plotter.close()
-    return out
+    return _save(plotter, out)
 
 
 def _save(plotter, out: Path) -> Path:

@@ -138,6 +138,18 @@ class Tool:
         full = np.nonzero(np.isclose(prof[:, 1], self.radius))[0]
         return float(prof[full[0], 0]) if len(full) else self.cutting_length
 
+    def stack(self) -> list[tuple[str, float, float, float]]:
+        """The tool as cylinders along its axis from the tip: ``(part, z0, z1, radius)`` mm for
+        the cutting part, the shank and the holder (parts of zero size left out)."""
+        out = [("cutter", 0.0, self.cutting_length, self.radius)]
+        z = self.cutting_length
+        for part, d, length in (("shank", self.shank_diameter, self.shank_length),
+                                ("holder", self.holder_diameter, self.holder_length)):
+            if length > 0 and d > 0:
+                out.append((part, z, z + length, d / 2.0))
+                z += length
+        return out
+
     def length(self, d: int | None) -> float:
         """Length offset of edge ``d`` (0 when the edge is not defined or ``d`` is None/0)."""
         if not d:
