@@ -255,8 +255,6 @@ def check(block: Block, distance_incremental: bool) -> None:
             raise NgcError("g53_incremental")
     if block.m_count > 4:
         raise NgcError("too_many_m_codes")
-    if block.user_m:
-        return
     cycle = motion in CYCLES
     if "a" in w and cycle:
         raise NgcError("cycle_axis_a")
@@ -287,7 +285,7 @@ def check(block: Block, distance_incremental: bool) -> None:
             mode0 in (100, 40) or g.get(13) == 640
             or motion in (760, 820, 860, 880, 890, 50, 520, 20, 30, 740, 840)
             or block.m.get(9) in (50, 51, 52, 53) or block.m.get(5) in (62, 63, 64, 65, 66)
-            or block.m.get(7) == 19
+            or block.m.get(7) == 19 or block.user_m
         ):
             raise NgcError("unused_p")
         p_value = int(math.floor(w["p"] + 0.5))
@@ -298,6 +296,7 @@ def check(block: Block, distance_incremental: bool) -> None:
     if block.q != -1.0 and not (
         motion in (830, 730, 50, 760) or block.m.get(5) in (66, 67, 68)
         or mode0 == 100 or block.m.get(6) == 61 or g.get(13) == 640 or block.m.get(7) == 19
+        or block.user_m
     ):
         raise NgcError("unused_q")
     if "r" in w and not (

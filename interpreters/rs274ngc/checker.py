@@ -103,6 +103,8 @@ def _check_structure(prog: Program, directory: Path) -> list[Finding]:
         kind, name = o.kind, o.name
         if kind == "sub":
             defined.add(name)
+        if kind == "program":
+            continue
         if kind == "call":
             calls.append((name, i, o.col))
             continue

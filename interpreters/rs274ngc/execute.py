@@ -250,6 +250,9 @@ class ExecuteMixin:
                 s.retract_r = True
         if mode0 != -1:
             self.convert_modal_0(mode0, block)
+        code = g.get(11)  # G92.1 G92.2 G92.3
+        if code is not None:
+            self.convert_axis_offsets(code, block)
         if block.motion != -1:
             self.convert_motion(block.motion, block)
 
@@ -340,6 +343,7 @@ class ExecuteMixin:
             out.simple("PALLET_SHUTTLE")
         out.program_end("M30" if code == 30 else "M2")
         if self.percent and not any(r.strip() == "%" for r in self.prog.raw[self.pc :]):
+            out.nlabel = "N..... "  # LinuxCNC notes it after the block, without its N number
             out.comment("interpreter: percent sign missing from end of file")
         self.ended = True
         return END

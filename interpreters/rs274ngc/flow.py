@@ -36,7 +36,7 @@ _SAFE_NAME = re.compile(r"[a-z0-9_][a-z0-9_.\-]*")
 #: LinuxCNC runs the main program and at most 9 nested calls (INTERP_SUB_ROUTINE_LEVELS)
 MAX_CALL_LEVELS = 10
 _CONDITIONS = frozenset(("if", "elseif", "while", "repeat"))
-_GLOBAL = frozenset(("sub", "endsub", "call", "return"))
+_GLOBAL = frozenset(("sub", "endsub", "call", "return", "program"))
 
 
 class Frame:
@@ -121,6 +121,8 @@ class FlowMixin:
             self.index = pc
             self.line = line
             self.pc = pc + 1
+            if line.slash and self.block_delete:
+                continue
             if line.skip_error is not None:
                 raise line.skip_error
             if line.percent and self.percent:
@@ -133,7 +135,7 @@ class FlowMixin:
             if o is None:
                 continue
             kind = o.kind
-            if defining and kind == "sub":
+            if defining and (kind == "sub" or kind == "program"):
                 raise NgcError("nested_sub_definition", o.col)
             name = self.qualified(o)
             if name != self.skipping or kind == "call":
@@ -211,6 +213,12 @@ class FlowMixin:
         self.subs[name] = (self.prog, self.index)
         self.defining = name
         self.skipping = name
+        return None
+
+    def o_program(self, line, o, name):
+        """A bare program number (O1000): LinuxCNC goes on, unless in an O-word call."""
+        if len(self.frames) > 1:
+            raise NgcError("fanuc_sub_not_m98", o.col)
         return None
 
     def o_call(self, line, o, name):

@@ -247,6 +247,8 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
         if s.toolchange_flag:  # a tool change may move the controlled point: re-read it
             s.pos = list(self.out.ppos)
             s.toolchange_flag = False
+        if line.slash and self.block_delete:  # before its N word is read (not its comments)
+            return None
         if line.skip_error is not None:
             raise line.skip_error
         if line.percent:
@@ -254,7 +256,7 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
                 self.out.finish()
                 return END
             raise NgcError("bad_character", 1, char="%")
-        if line.blank or (line.slash and self.block_delete):
+        if line.blank:
             return None
         if line.o is not None or (line.error is not None and not line.items):
             if line.o is None:

@@ -328,6 +328,8 @@ def _item(reader: Reader, pos: int, items: list) -> int:
     c = text[pos]
     col = reader.col(pos)
     if c in WORD_LETTERS:
+        if c != "g" and c != "m":
+            _check_repeated(items, c, col)
         v, end = reader.real_value(pos + 1)
         items.append(("w", c, v, col))
         return end
@@ -346,6 +348,17 @@ def _item(reader: Reader, pos: int, items: list) -> int:
     if c < " " or c > "z" or c == " ":
         raise NgcError("bad_character", col, char="\\%03o" % (ord(c) & 0xFF))
     raise NgcError("bad_character", col, char=c)
+
+
+def _check_repeated(items: list, letter: str, col: int) -> None:
+    """LinuxCNC refuses a second word of a letter before reading its value; a P, Q or L
+    only counts when it was > -1 (read_p: ``p_number > -1.0``), known here if constant."""
+    for item in items:
+        if item[0] == "w" and item[1] == letter:
+            v = item[2]
+            if letter in "pql" and (type(v) is not float or v <= -1.0):
+                continue  # decided when the block is read
+            raise NgcError("duplicate_word", col, letter=letter)
 
 
 def _setting(reader: Reader, pos: int, items: list, col: int) -> int:
@@ -388,12 +401,12 @@ def _o_line(reader: Reader, pos: int, line: Line) -> None:
         name = str(int(v))
     kind = next((k for k in O_KINDS if text.startswith(k, pos)), None)
     if kind is None:
-        if pos >= len(text) or text[pos] in "(;":
-            line.o_error = False
-            raise NgcError("unsupported", col, what="Fanuc-style O-word program number")
-        line.o_error = "kind"
-        raise reader.error("unknown_o_command", pos)
-    pos += len(kind)
+        if pos < len(text) and text[pos] not in "(;":
+            line.o_error = "kind"
+            raise reader.error("unknown_o_command", pos)
+        kind = "program"  # a bare Fanuc-style program number (O1000): no command
+    else:
+        pos += len(kind)
     o = line.o = OLine(kind, name, col)
     try:
         if kind in ("while", "if", "elseif", "repeat"):

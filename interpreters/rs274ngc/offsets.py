@@ -145,7 +145,7 @@ class OffsetMixin:
             self.convert_home(code, block)
         elif code in (281, 301):
             self.convert_savehome(code)
-        elif code in (520, 920, 921, 922, 923):
+        elif code in (520, 920):
             self.convert_axis_offsets(code, block)
 
     def convert_setup(self, block: blk.Block) -> None:
