@@ -41,6 +41,9 @@ class Tolerances:
     #: Stock removal: convex hull used for a move only while its rotation stays below this
     #: angle, degrees (above it the hull overcuts by about R·sin(δ/2); see docs/stock.md).
     hull_angle: float = 1e-6
+    #: Stock removal: cutters are trimmed to the stock's bounding box grown by this much, mm
+    #: (exact: the stock never grows; the margin keeps the trimmed faces off the stock).
+    trim_margin: float = 0.5
 
 
 tol = Tolerances()

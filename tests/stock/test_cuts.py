@@ -113,7 +113,7 @@ def test_paths_away_from_the_stock_are_culled(face40):
     stock = Stock.from_spec("cylinder:d=60,l=40")
     tips, axes = turnmill(325.0, 0.0, 50.0, [0.0, 90.0, 180.0])
     n = stock.cut(face40, tips, axes)
-    assert n == 3 and stock.stats.culled == 3
+    assert n == 0 and stock.stats.culled == 3   # trimmed to nothing: the box misses them
     assert stock.volume == pytest.approx(engine.volume(stock.initial))
 
 

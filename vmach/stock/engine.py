@@ -20,8 +20,8 @@ Solid = m3d.Manifold
 
 __all__ = [
     "Solid", "StockError", "box", "bounds", "check", "cylinder", "empty", "from_mesh", "hull",
-    "intersect", "is_empty", "num_triangles", "slice_polygons", "subtract", "to_mesh",
-    "transform", "union", "volume",
+    "hull_mesh", "intersect", "is_empty", "num_triangles", "slice_polygons", "subtract",
+    "to_mesh", "transform", "union", "volume",
 ]
 
 
@@ -61,6 +61,15 @@ def from_mesh(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh") -> So
 def hull(points: np.ndarray) -> Solid:
     """Convex hull of points (m, 3) float, mm (empty if degenerate)."""
     return m3d.Manifold.hull_points(np.ascontiguousarray(points, dtype=np.float64))
+
+
+def hull_mesh(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Convex hull of points (m, 3) as a triangle mesh in double precision: vertices (n, 3)
+    float (a subset of the points, bit for bit) and faces (f, 3) int64, outward."""
+    mesh = hull(points).to_mesh64()
+    v = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
+    f = np.asarray(mesh.tri_verts, dtype=np.int64).reshape(-1, 3)
+    return v, f
 
 
 def cylinder(radius: float, z0: float, z1: float, segments: int) -> Solid:

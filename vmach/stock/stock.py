@@ -22,6 +22,7 @@ import numpy as np
 
 from vmach.errors import InputError
 from vmach.stock import engine
+from vmach.stock.clip import Shape, clip, shape
 from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
 from vmach.tol import tol
@@ -39,6 +40,7 @@ class CutStats:
     poses: int = 0
     cutters: int = 0
     culled: int = 0
+    covered: int = 0
     batches: int = 0
     sweep_seconds: float = 0.0
     boolean_seconds: float = 0.0
@@ -52,6 +54,20 @@ class _Cell:
     pending: list = field(default_factory=list)
 
 
+_IDENTITY = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
+
+
+def _outside_runs(poses: np.ndarray, runs: np.ndarray) -> np.ndarray:
+    """Placed poses not on a translation run: the run's hull (the tool swept along the run's
+    segment, same axis) already contains the tool at every pose of the run."""
+    if len(runs) == 0 or len(poses) == 0:
+        return poses
+    covered = np.zeros(int(max(poses.max(), runs.max())) + 1, bool)
+    for a, b in runs:
+        covered[a : b + 1] = True
+    return poses[~covered[poses]]
+
+
 class Stock:
     """Material that tool paths remove.
 
@@ -60,11 +76,13 @@ class Stock:
     cells : (3,) int — partition of the blank's bounds into nx × ny × nz cells (1, 1, 1: none).
     chord : float, mm — polygonisation tolerance of tool solids.
     progress : bool — show a progress bar on stderr when it is a terminal.
+    trim : bool — trim cutters to the box around the stock (:mod:`vmach.stock.clip`; exact)
+        and drop placed poses that a translation hull of the same path already contains.
     """
 
     def __init__(self, solid: engine.Solid, *, batch: int = 64,
                  cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
-                 progress: bool = False):
+                 progress: bool = False, trim: bool = True):
         engine.check(solid, "blank")
         self.initial = solid
         self.initial_bounds = engine.bounds(solid)
@@ -76,6 +94,8 @@ class Stock:
         self._bar = None
         self._progress = progress and sys.stderr.isatty()
         self._piece_cache: dict[tuple, list[engine.Solid]] = {}
+        self._shape_cache: dict[tuple, list[Shape]] = {}
+        self.trim = trim
 
     @classmethod
     def from_spec(cls, spec: str, **kw) -> Stock:
@@ -108,6 +128,18 @@ class Stock:
             self._piece_cache[key] = [engine.hull(p) for p in ts.pieces]
         return self._piece_cache[key]
 
+    def _tool_shapes(self, ts: ToolSolid) -> list[Shape]:
+        key = (id(ts),)
+        if key not in self._shape_cache:
+            self._shape_cache[key] = [shape(*engine.hull_mesh(p)) for p in ts.pieces]
+        return self._shape_cache[key]
+
+    def trim_box(self) -> np.ndarray:
+        """(2, 3) float, mm — the box cutters are trimmed to: the stock's bounds now, grown by
+        ``tol.trim_margin`` so that no trimmed face touches the stock."""
+        b = self.bounds
+        return np.stack([b[0] - tol.trim_margin, b[1] + tol.trim_margin])
+
     # ----------------------------------------------------------------------------------------
     def cut(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray) -> int:
         """Queue the swept volume of one path; returns the number of cutters queued.
@@ -117,13 +149,26 @@ class Stock:
         motion in order. A rotary path must be sampled densely enough for the wanted accuracy
         (see :mod:`vmach.stock.sweep`).
         """
-        cutters, boxes = self.cutters(tool, tips, axes)
-        self._queue(cutters, boxes)
-        return len(cutters)
+        n = 0
+        for cutters, boxes in self._sweep(tool, tips, axes):
+            self._queue(cutters, boxes)
+            n += len(cutters)
+        return n
 
     def cutters(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray):
-        """The solids a path sweeps (placed pieces and translation hulls) and their boxes
-        (c, 2, 3), without queueing them."""
+        """The solids a path sweeps (placed pieces and translation hulls, trimmed to
+        :meth:`trim_box`) and their boxes (c, 2, 3), without queueing them."""
+        cutters: list[engine.Solid] = []
+        boxes: list[np.ndarray] = []
+        for c, b in self._sweep(tool, tips, axes):
+            cutters += c
+            boxes += b
+        return cutters, boxes
+
+    CHUNK = 256  # poses swept at a time (cutters are queued, and may be subtracted, as they come)
+
+    def _sweep(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray):
+        """Yield (cutters, boxes) for consecutive stretches of a path, in path order."""
         t0 = time.perf_counter()
         ts = tool if isinstance(tool, ToolSolid) else tool_solid(tool, self.chord)
         tips = np.asarray(tips, dtype=float).reshape(-1, 3)
@@ -132,29 +177,66 @@ class Stock:
             raise InputError("cut: tips and axes differ in length", kind="stock_input")
         if not (np.isfinite(tips).all() and np.isfinite(axes).all()):
             raise InputError("cut: non-finite pose", kind="stock_input")
+        self.stats.paths += 1
+        self.stats.poses += len(tips)
         if len(tips) == 0:
-            return [], []
+            return
         sp = plan(tips, axes)
         fr = frames(tips, axes)
         solids = self._tool_pieces(ts)
-        cutters: list[engine.Solid] = []
-        boxes: list[np.ndarray] = []
-        for k, pts in enumerate(ts.pieces):
-            if len(sp.poses):
-                placed = place(pts, fr[sp.poses])                       # (m, p, 3)
-                lo, hi = placed.min(axis=1), placed.max(axis=1)
-                for j, pose in enumerate(sp.poses):
-                    cutters.append(engine.transform(solids[k], fr[pose]))
-                    boxes.append(np.stack([lo[j], hi[j]]))
-            for run in sp.runs:
-                a, b = run_extremes(tips, run)
-                both = place(pts, fr[[a, b]]).reshape(-1, 3)
-                cutters.append(engine.hull(both))
-                boxes.append(np.stack([both.min(axis=0), both.max(axis=0)]))
-        self.stats.paths += 1
-        self.stats.poses += len(tips)
+        poses = sp.poses
+        if self.trim:
+            poses = _outside_runs(poses, sp.runs)
+            self.stats.covered += (len(sp.poses) - len(poses)) * len(ts.pieces)
+            shapes = self._tool_shapes(ts)
+        # placed poses and runs in path order
+        start = np.concatenate([poses, sp.runs[:, 0]]) if len(sp.runs) else poses
+        kind = np.r_[np.zeros(len(poses), int), np.ones(len(sp.runs), int)]
+        which = np.r_[np.arange(len(poses)), np.arange(len(sp.runs))]
+        order = np.argsort(start, kind="stable")
+        for c0 in range(0, len(order), self.CHUNK):
+            part = order[c0 : c0 + self.CHUNK]
+            chunk_poses = poses[which[part][kind[part] == 0]]
+            chunk_runs = sp.runs[which[part][kind[part] == 1]]
+            cutters: list[engine.Solid] = []
+            boxes: list[np.ndarray] = []
+            box = self.trim_box() if self.trim else None
+            for k, pts in enumerate(ts.pieces):
+                if len(chunk_poses) and self.trim:
+                    trimmed, inside = clip(shapes[k], fr[chunk_poses], box[0], box[1])
+                    for j, q in enumerate(trimmed):
+                        if q is None:
+                            self.stats.culled += 1
+                            continue
+                        cutters.append(engine.transform(solids[k], fr[chunk_poses[j]]) if inside[j]
+                                       else engine.hull(q))
+                        boxes.append(np.stack([q.min(axis=0), q.max(axis=0)]))
+                elif len(chunk_poses):
+                    placed = place(pts, fr[chunk_poses])                  # (m, p, 3)
+                    lo, hi = placed.min(axis=1), placed.max(axis=1)
+                    for j, pose in enumerate(chunk_poses):
+                        cutters.append(engine.transform(solids[k], fr[pose]))
+                        boxes.append(np.stack([lo[j], hi[j]]))
+                for run in chunk_runs:
+                    a, b = run_extremes(tips, run)
+                    both = place(pts, fr[[a, b]]).reshape(-1, 3)
+                    lo, hi = both.min(axis=0), both.max(axis=0)
+                    if self.trim and not (np.all(lo >= box[0]) and np.all(hi <= box[1])):
+                        q = None
+                        if not (np.any(hi < box[0]) or np.any(lo > box[1])):
+                            q = clip(shape(*engine.hull_mesh(both)), _IDENTITY, box[0], box[1])[0][0]
+                        if q is None:
+                            self.stats.culled += 1
+                            continue
+                        cutters.append(engine.hull(q))
+                        boxes.append(np.stack([q.min(axis=0), q.max(axis=0)]))
+                        continue
+                    cutters.append(engine.hull(both))
+                    boxes.append(np.stack([lo, hi]))
+            self.stats.sweep_seconds += time.perf_counter() - t0
+            yield cutters, boxes
+            t0 = time.perf_counter()
         self.stats.sweep_seconds += time.perf_counter() - t0
-        return cutters, boxes
 
     def queue(self, cutters: list, boxes: list) -> None:
         """Queue ready cutters (from :meth:`cutters`)."""

@@ -1,0 +1,82 @@
+"""Cutters trimmed to the box around the stock (vmach/stock/clip.py): exact, and the trimmed
+faces lie exactly in the box's planes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.stock.conftest import turnmill
+from vmach.stock import Stock, engine
+from vmach.stock.clip import clip, shape
+from vmach.tooling import frames, tool_solid
+
+
+@pytest.fixture(scope="module")
+def d25_shape(library):
+    ts = tool_solid(library.lookup("GLOD D25"), 0.01)
+    return ts, shape(*engine.hull_mesh(ts.pieces[0]))
+
+
+def test_shape_planes_contain_the_piece_and_edges_are_the_real_ones(d25_shape):
+    ts, sh = d25_shape
+    n = ts.segments
+    assert (sh.vertices @ sh.planes[:, :3].T - sh.planes[:, 3]).max() < 1e-12
+    # a prism: n side faces and two caps; 3n edges (the caps' and sides' diagonals left out)
+    assert len(sh.planes) == n + 2 and len(sh.edges) == 3 * n
+
+
+def test_trimmed_copies_are_the_copies_cut_by_the_box(d25_shape):
+    ts, sh = d25_shape
+    rng = np.random.default_rng(4)
+    c = rng.uniform(0, 360, 40)
+    tips, axes = turnmill(rng.uniform(15, 40, 40), rng.uniform(-8, 8, 40), rng.uniform(-30, 5, 40), c)
+    axes = axes + rng.normal(0, 0.2, axes.shape)          # not only radial: any orientation
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    # one copy wholly inside the box (pointing down the Z axis), one far outside
+    tips = np.vstack([tips, [[0.0, 0.0, -1.0], [100.0, 100.0, 100.0]]])
+    axes = np.vstack([axes, [[0.0, 0.0, -1.0], [1.0, 0.0, 0.0]]])
+    fr = frames(tips, axes)
+    lo, hi = np.array([-30.5, -30.5, -40.5]), np.array([30.5, 30.5, 0.5])
+    pts, inside = clip(sh, fr, lo, hi)
+    box = engine.box(lo, hi)
+    whole = engine.hull(ts.pieces[0])
+    seen = {"cut": 0, "inside": 0, "missed": 0}
+    for k, q in enumerate(pts):
+        exact = engine.intersect(engine.transform(whole, fr[k]), box)
+        if q is None:
+            assert engine.volume(exact) < 1e-9
+            seen["missed"] += 1
+            continue
+        got = engine.hull(q)
+        assert engine.volume(got) == pytest.approx(engine.volume(exact), rel=1e-9, abs=1e-9)
+        # same solid: the symmetric difference is empty
+        assert engine.volume(engine.subtract(got, [exact])) < 1e-7
+        assert engine.volume(engine.subtract(exact, [got])) < 1e-7
+        if inside[k]:
+            seen["inside"] += 1
+            continue
+        seen["cut"] += 1
+        on = np.isclose(q, lo, atol=1e-9) | np.isclose(q, hi, atol=1e-9)
+        # points on a box face carry the face's coordinate exactly
+        assert np.all(np.isin(q[on], np.r_[lo, hi]))
+    assert seen["cut"] > 10 and seen["inside"] > 0 and seen["missed"] > 0
+
+
+@pytest.mark.parametrize("delta", [2.0, 1.713])
+def test_trimming_and_covered_poses_do_not_change_the_cut(face40, delta):
+    """Rotary steps (placed poses) and translation steps (hulls) in turn, as the facing pass
+    of the polygon program: the trimmed cut, with the placed poses that the hulls contain left
+    out, removes exactly what the untrimmed one does."""
+    c = np.repeat(np.arange(0.0, 40.0, delta), 2)[1:]
+    y = np.repeat(np.linspace(-6, 6, len(c) // 2 + 1), 2)[: len(c)]
+    tips, axes = turnmill(27.0 + 0.02 * np.arange(len(c)), y, -20.0, c)
+    vols = []
+    for trim in (False, True):
+        stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, trim=trim, batch=16)
+        stock.cut(face40, tips, axes)
+        vols.append(stock.volume)
+        if trim:
+            assert stock.stats.covered > 10
+    assert vols[1] == pytest.approx(vols[0], rel=1e-10)
+    assert vols[0] < engine.volume(Stock.from_spec("cylinder:d=60,l=60").initial) - 100

@@ -1,0 +1,162 @@
+"""Cutters trimmed to a box around the stock — exactly, and cheaply for the booleans.
+
+Only the part of a cutter inside the stock removes anything, and the stock never grows, so a
+cutter may be replaced by its intersection with any box ``Q`` that contains the stock: the
+result of the subtraction is the same. The trimmed part of a convex piece ``P`` is convex,
+``P ∩ Q = hull(V)`` with V
+
+- the vertices of P inside Q,
+- the crossings of P's edges with Q's faces,
+- the crossings of Q's edges with P (each edge clipped by P's face planes; this also yields
+  the corners of Q inside P).
+
+Points on a face of Q are given that face's coordinate *exactly*, so the caps of all trimmed
+cutters lie exactly in the same few axis-aligned planes, outside the stock. That is what makes
+it pay: the far ends of overlapping cutters (a radial tool's far face, a face mill's back)
+otherwise cross each other in the air in a dense arrangement which manifold3d computes for
+every batch union, and which is most of its work (measured in docs/stock.md). Exactly coplanar
+caps cost manifold3d almost nothing; caps that are only nearly coplanar (an oblique plane
+computed in floating point) cost more than no trimming at all — hence the axis-aligned box.
+
+Error: the points are computed in double precision from the placed vertices, so the trimmed
+hull differs from ``P ∩ Q`` by rounding (~1e-12 mm), far inside ``tol.tool_chord``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Shape:
+    """Edges and face planes of a convex polytope, for clipping.
+
+    vertices : (p, 3) float, mm — hull vertices (tool frame).
+    edges : (e, 2) int — vertex index pairs (triangle edges; diagonals of planar faces are
+        harmless: their crossings lie on the polytope).
+    planes : (f, 4) float — ``n·x <= d`` for every face, unit n.
+    """
+
+    vertices: np.ndarray
+    edges: np.ndarray
+    planes: np.ndarray
+
+
+def shape(vertices: np.ndarray, faces: np.ndarray) -> Shape:
+    """Shape of a convex triangle mesh (vertices (p, 3) float, faces (f, 3) int, outward).
+    Edges inside planar faces (the diagonals of a triangulated polygon) are left out: their
+    crossings would only add points inside the faces."""
+    v = np.asarray(vertices, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    n = np.cross(b - a, c - a)
+    length = np.linalg.norm(n, axis=1)
+    scale = max(1.0, float(np.abs(v).max())) if len(v) else 1.0
+    good = length > 1e-12 * scale * scale          # slivers' planes are noise
+    unit = np.where(good[:, None], n / np.where(good, length, 1.0)[:, None], 0.0)
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    tri = np.tile(np.arange(len(f)), 3)
+    key = np.sort(e, axis=1)
+    order = np.lexsort((key[:, 1], key[:, 0]))
+    key, tri = key[order], tri[order]
+    # a closed mesh has every edge twice: pairs (2i, 2i+1) after sorting
+    first, second = tri[0::2], tri[1::2]
+    bend = np.einsum("ij,ij->i", unit[first], unit[second]) < 1.0 - 1e-12
+    edges = key[0::2][bend | ~good[first] | ~good[second]]
+    d = np.einsum("ij,ij->i", unit[good], a[good])
+    planes = np.column_stack([unit[good], d])
+    # one plane per face, not per triangle
+    _, first_of = np.unique(np.round(planes / np.array([1e-9, 1e-9, 1e-9, 1e-9 * scale])),
+                            axis=0, return_index=True)
+    return Shape(v, edges, planes[np.sort(first_of)])
+
+
+def _box_edges(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Start points (12, 3) and direction vectors (12, 3) of the box's edges."""
+    corner = np.array([[hi[0] if i & 1 else lo[0], hi[1] if i & 2 else lo[1], hi[2] if i & 4 else lo[2]]
+                       for i in range(8)])
+    pairs = np.array([(i, i | (1 << ax)) for i in range(8) for ax in range(3) if not i & (1 << ax)])
+    return corner[pairs[:, 0]], corner[pairs[:, 1]] - corner[pairs[:, 0]]
+
+
+CHUNK = 128  # copies clipped together (bounds the temporary arrays to a few MB)
+
+
+def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None], np.ndarray]:
+    """Clip placed copies of a convex shape to the box [lo, hi].
+
+    sh : the shape in the tool frame. frames : (m, 3, 4) float — rotation | translation.
+    Returns (points, inside): points[k] is an (q, 3) array whose hull is copy k ∩ box, or None
+    when copy k misses the box; inside (m,) bool marks copies wholly inside the box (their
+    points are the placed vertices, nothing was cut).
+    """
+    fr = np.asarray(frames, dtype=float).reshape(-1, 3, 4)
+    if len(fr) > CHUNK:
+        out: list[np.ndarray | None] = []
+        inside = []
+        for c0 in range(0, len(fr), CHUNK):
+            o, i = clip(sh, fr[c0 : c0 + CHUNK], lo, hi)
+            out += o
+            inside.append(i)
+        return out, np.concatenate(inside)
+    lo = np.asarray(lo, dtype=float)
+    hi = np.asarray(hi, dtype=float)
+    m = len(fr)
+    rot, t = fr[:, :, :3], fr[:, :, 3]
+    P = sh.vertices @ rot.transpose(0, 2, 1) + t[:, None, :]                  # (m, p, 3)
+    plo, phi = P.min(axis=1), P.max(axis=1)
+    inside = np.all((plo >= lo) & (phi <= hi), axis=1)
+    miss = np.any((phi < lo) | (plo > hi), axis=1)
+    out = [None] * m
+    for k in np.nonzero(inside)[0]:
+        out[k] = P[k]
+    todo = np.nonzero(~inside & ~miss)[0]
+    if len(todo) == 0:
+        return out, inside
+    Pt = P[todo]                                                              # (c, p, 3)
+    c = len(todo)
+    keep = np.all((Pt >= lo) & (Pt <= hi), axis=2)                             # (c, p)
+    which, vert = np.nonzero(keep)
+    idx: list[np.ndarray] = [which]
+    pts: list[np.ndarray] = [Pt[which, vert]]
+    A, B = Pt[:, sh.edges[:, 0]], Pt[:, sh.edges[:, 1]]                      # (c, e, 3)
+    for ax in range(3):
+        other = [i for i in range(3) if i != ax]
+        for val in (lo[ax], hi[ax]):
+            da, db = A[:, :, ax] - val, B[:, :, ax] - val
+            which, edge = np.nonzero((da > 0) != (db > 0))
+            if len(which) == 0:
+                continue
+            s = da[which, edge] / (da[which, edge] - db[which, edge])
+            a, b = A[which, edge], B[which, edge]
+            x = a + (b - a) * s[:, None]
+            x[:, ax] = val
+            ok = np.all((x[:, other] >= lo[other]) & (x[:, other] <= hi[other]), axis=1)
+            idx.append(which[ok])
+            pts.append(x[ok])
+    # the box's edges clipped by each copy's face planes (Cyrus-Beck)
+    q0, dq = _box_edges(lo, hi)
+    N = sh.planes[:, :3] @ rot[todo].transpose(0, 2, 1)                       # (c, f, 3)
+    D = sh.planes[None, :, 3] + np.matmul(N, t[todo][:, :, None])[:, :, 0]     # (c, f)
+    nd = np.matmul(N, dq.T).transpose(0, 2, 1)                                # (c, 12, f)
+    num = D[:, None, :] - np.matmul(N, q0.T).transpose(0, 2, 1)              # s * nd <= num
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = num / nd
+    s0 = np.maximum(np.where(nd < 0, r, -np.inf).max(axis=2), 0.0)
+    s1 = np.minimum(np.where(nd > 0, r, np.inf).min(axis=2), 1.0)
+    blocked = ((nd == 0) & (num < 0)).any(axis=2)
+    which, edge = np.nonzero((s0 <= s1) & ~blocked)
+    if len(which):
+        fixed = dq[edge] == 0
+        for s in (s0[which, edge], s1[which, edge]):
+            idx.append(which)
+            pts.append(np.where(fixed, q0[edge], q0[edge] + dq[edge] * s[:, None]))
+    allidx = np.concatenate(idx)
+    allpts = np.concatenate(pts)
+    order = np.argsort(allidx, kind="stable")
+    counts = np.bincount(allidx, minlength=c)
+    for k, chunk in zip(todo, np.split(allpts[order], np.cumsum(counts)[:-1]), strict=True):
+        out[k] = chunk if len(chunk) >= 4 else None
+    return out, inside
