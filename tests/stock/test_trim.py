@@ -80,3 +80,21 @@ def test_trimming_and_covered_poses_do_not_change_the_cut(face40, delta):
             assert stock.stats.covered > 10
     assert vols[1] == pytest.approx(vols[0], rel=1e-10)
     assert vols[0] < engine.volume(Stock.from_spec("cylinder:d=60,l=60").initial) - 100
+
+
+def test_local_stock_is_the_stock_inside_the_box(face40):
+    """Stock.local (what the verify checks measure against) is the stock now, pending cutters
+    subtracted, inside the box — with one cell and with several."""
+    c = np.arange(0.0, 60.0, 1.713)
+    tips, axes = turnmill(26.0, np.linspace(-5, 5, len(c)), -12.0, c)
+    lo, hi = np.array([0.0, 0.0, -40.0]), np.array([31.0, 31.0, 1.0])
+    got = []
+    for cells in ((1, 1, 1), (2, 2, 2)):
+        stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, cells=cells)
+        stock.cut(face40, tips, axes)
+        local = stock.local(lo, hi)                  # before stock.solid: cutters still queued
+        want = engine.intersect(stock.solid, engine.box(lo, hi))
+        assert engine.volume(local) == pytest.approx(engine.volume(want), rel=1e-9)
+        got.append(engine.volume(local))
+    assert got[0] == pytest.approx(got[1], rel=1e-9)
+    assert got[0] < 0.25 * np.pi * 30 ** 2 * 41 - 100   # material was removed inside the box

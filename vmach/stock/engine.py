@@ -39,13 +39,18 @@ def empty() -> Solid:
     return m3d.Manifold()
 
 
-def from_mesh(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh") -> Solid:
+def from_mesh(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh", double: bool = False) -> Solid:
     """Solid from a triangle mesh.
 
     vertices : (n, 3) float, mm. faces : (m, 3) int, counter-clockwise seen from outside.
+    double : keep the vertices in double precision (default: single, as mesh files are). The
+        mesh goes in as single precision (manifold3d's 64-bit mesh constructor is not usable
+        from Python here) and the vertices are then moved back to their double values, found
+        by their single-precision keys; if two vertices share a key the single values stay.
     Raises StockError when the mesh is not a closed, oriented 2-manifold.
     """
-    v = np.ascontiguousarray(vertices, dtype=np.float32)
+    v64 = np.ascontiguousarray(vertices, dtype=np.float64)
+    v = np.ascontiguousarray(v64, dtype=np.float32)
     f = np.ascontiguousarray(faces, dtype=np.uint32)
     if v.ndim != 2 or v.shape[1] != 3 or f.ndim != 2 or f.shape[1] != 3 or len(f) < 4:
         raise StockError(f"{what}: not a triangle mesh", kind="stock_mesh")
@@ -55,6 +60,18 @@ def from_mesh(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh") -> So
         raise StockError(f"{what}: not a closed 2-manifold ({status.name})", kind="stock_mesh")
     if solid.volume() < 0:  # pragma: no cover - manifold3d orients closed meshes itself
         raise StockError(f"{what}: faces are oriented inward", kind="stock_mesh")
+    if double:
+        keys = v.view(np.dtype((np.void, 12))).ravel()
+        order = np.argsort(keys)
+        sorted_keys = keys[order]
+        if len(sorted_keys) < 2 or not np.any(sorted_keys[1:] == sorted_keys[:-1]):
+            def exact(points):
+                q = np.ascontiguousarray(points, dtype=np.float32).view(np.dtype((np.void, 12))).ravel()
+                i = np.minimum(np.searchsorted(sorted_keys, q), len(order) - 1)
+                return np.where((sorted_keys[i] == q)[:, None], v64[order[i]], points)
+
+            solid = solid.warp_batch(exact)
+            check(solid, what)
     return solid
 
 
@@ -138,11 +155,12 @@ def bounds(solid: Solid) -> np.ndarray:
     return np.asarray(solid.bounding_box(), dtype=float).reshape(2, 3)
 
 
-def to_mesh(solid: Solid) -> tuple[np.ndarray, np.ndarray]:
-    """Triangle mesh: vertices (n, 3) float, mm; faces (m, 3) int64."""
-    mesh = solid.to_mesh()
+def to_mesh(solid: Solid, double: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Triangle mesh: vertices (n, 3) float, mm; faces (m, 3) int64. ``double``: the vertices
+    as manifold3d holds them (else rounded to single precision, as mesh files keep them)."""
+    mesh = solid.to_mesh64() if double else solid.to_mesh()
     v = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
-    f = np.asarray(mesh.tri_verts, dtype=np.int64)
+    f = np.asarray(mesh.tri_verts, dtype=np.int64).reshape(-1, 3)
     return v, f
 
 

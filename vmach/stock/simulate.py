@@ -140,7 +140,14 @@ CHUNK = 64  # moves screened together against the stock before them
 
 def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose, res: SimResult) -> None:
     """Cut rows a..b-1 (samples: row j spans pose[first_j .. first_j + k_j]) and report rapids
-    into material and shank/holder contact (:mod:`vmach.stock.events`)."""
+    into material and shank/holder contact (:mod:`vmach.stock.events`).
+
+    Per chunk of ``CHUNK`` rows: boxes pick the rows whose rapid cutter or parts could reach
+    material; their solids are met with the blank, then with the stock *inside the box around
+    them* (:meth:`Stock.local`, exact there and much smaller than the stock). Material only
+    decreases, so if nothing overlaps before the chunk the chunk is cleared and cut as a whole;
+    otherwise its rows are cut one by one on that local stock, and each watched row is measured
+    on it exactly."""
     tips, ax = pose.tip, pose.axis
     first = np.r_[0, np.cumsum(k)[:-1]]
     span = [(first[j], first[j] + k[j] + 1) for j in range(b - a)]
@@ -162,36 +169,44 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
                 box = np.stack([cut_boxes[s:e, 0].min(axis=0), cut_boxes[s:e, 1].max(axis=0)])
                 if overlaps(box[None], here)[0]:
                     watch_rapid.append(j)
-        if watch_parts or watch_rapid:
-            probe = [c for j in watch_rapid for c in stock.cutters(tool, tips[span[j][0]:span[j][1]],
-                                                                    ax[span[j][0]:span[j][1]])[0]]
-            probe += [q for j in watch_parts for p in parts
-                      for q in part_solids(p, tips[span[j][0]:span[j][1]], ax[span[j][0]:span[j][1]])]
-            if _touches(stock, probe):
-                for j in rows:
-                    _cut_one(stock, tool, table, a + j, tips[span[j][0]:span[j][1]],
-                             ax[span[j][0]:span[j][1]], j in watch_rapid, parts if j in watch_parts else [], res)
-                continue
-        s, e = span[rows[0]][0], span[rows[-1]][1]
-        stock.cut(tool, tips[s:e], ax[s:e])
+        probes = {}
+        for j in watch_rapid:
+            c, bx = stock.cutters(tool, tips[span[j][0]:span[j][1]], ax[span[j][0]:span[j][1]])
+            probes[("rapid", j)] = (c, bx)
+        for j in watch_parts:
+            for p in parts:
+                q = part_solids(p, tips[span[j][0]:span[j][1]], ax[span[j][0]:span[j][1]])
+                probes[(p.name, j)] = (q, [engine.bounds(x) for x in q])
+        # only probes that reach into the blank at all (a few hundred triangles each)
+        probes = {key: v for key, v in probes.items()
+                  if v[0] and overlap_volume(stock.initial, v[0])[0] > tol.removal_volume}
+        local = None
+        if probes:
+            boxes = np.array([bx for _, bxs in probes.values() for bx in bxs])
+            lo = np.maximum(boxes[:, 0].min(axis=0), here[0]) - tol.trim_margin
+            hi = np.minimum(boxes[:, 1].max(axis=0), here[1]) + tol.trim_margin
+            if np.all(lo <= hi):
+                local = stock.local(lo, hi)
+                touched = [s for s, _ in probes.values()]
+                if overlap_volume(local, [x for q in touched for x in q])[0] <= tol.removal_volume:
+                    local = None
+        if local is None:
+            s, e = span[rows[0]][0], span[rows[-1]][1]
+            stock.cut(tool, tips[s:e], ax[s:e])
+            continue
+        for j in rows:
+            local = _cut_one(stock, local, tool, table, a + j, tips[span[j][0]:span[j][1]],
+                             ax[span[j][0]:span[j][1]], probes.get(("rapid", j)),
+                             [(p, probes[(p.name, j)][0]) for p in parts if (p.name, j) in probes], res)
 
 
-def _touches(stock: Stock, probe: list) -> bool:
-    """Does any probe solid overlap the stock as it is now? Each probe is first met with the
-    blank (a few hundred triangles), and only those inside it with the cut stock."""
-    blank = stock.initial
-    inside = [q for q in probe if overlap_volume(blank, [q])[0] > tol.removal_volume]
-    if not inside:
-        return False
-    now = stock.solid
-    return any(overlap_volume(now, [q])[0] > tol.removal_volume for q in inside)
-
-
-def _cut_one(stock: Stock, tool, table, row: int, tips, ax, rapid: bool, parts: list, res: SimResult) -> None:
-    """Cut one move alone; measure what a rapid removes and what the parts touch after it."""
-    cutters, boxes = stock.cutters(tool, tips, ax)
-    if rapid:
-        removed, centre = overlap_volume(stock.solid, cutters)
+def _cut_one(stock: Stock, local, tool, table, row: int, tips, ax, rapid, parts: list, res: SimResult):
+    """Cut one move alone; measure what a rapid removes and what the parts touch after it, on
+    ``local`` (the stock inside a box that holds every probe). Returns the local stock after
+    the move."""
+    cutters, boxes = rapid if rapid is not None else stock.cutters(tool, tips, ax)
+    if rapid is not None:
+        removed, centre = overlap_volume(local, cutters)
         if removed > tol.removal_volume:
             c = np.round(centre, 3).tolist()
             res.findings.append(Finding(
@@ -200,18 +215,19 @@ def _cut_one(stock: Stock, tool, table, row: int, tips, ax, rapid: bool, parts: 
                 f"({c[0]:.2f}, {c[1]:.2f}, {c[2]:.2f}) mm (work frame)",
                 table.source(row), row, {"volume_mm3": round(removed, 4), "at_mm": c}))
     stock.queue(cutters, boxes)
-    if rapid and res.findings and res.findings[-1].move_index == row:
+    if cutters:
+        local = engine.subtract(local, cutters)   # lazy: evaluated by the next measurement
+    if rapid is not None and res.findings and res.findings[-1].move_index == row:
         _snapshot(stock, row, res)
-    if parts:
-        after = stock.solid  # the stock after this move's own cut
-        for p in parts:
-            vol, centre = overlap_volume(after, part_solids(p, tips, ax))
-            if vol > tol.removal_volume:
-                res.findings.append(Finding(
-                    "holder_collision", "error", f"the tool's {p.name} runs {vol:.3f} mm³ into the stock",
-                    table.source(row), row,
-                    {"part": p.name, "volume_mm3": round(vol, 4), "at_mm": np.round(centre, 3).tolist()}))
-                _snapshot(stock, row, res)
+    for p, solids in parts:
+        vol, centre = overlap_volume(local, solids)  # the stock after this move's own cut
+        if vol > tol.removal_volume:
+            res.findings.append(Finding(
+                "holder_collision", "error", f"the tool's {p.name} runs {vol:.3f} mm³ into the stock",
+                table.source(row), row,
+                {"part": p.name, "volume_mm3": round(vol, 4), "at_mm": np.round(centre, 3).tolist()}))
+            _snapshot(stock, row, res)
+    return local
 
 
 SNAPSHOTS = 12  # close-up pictures are made of the first few findings only

@@ -5,23 +5,25 @@
     part = stock.solid                   # flushes pending cutters
     stock.export("part.stl"); stock.export("removed.3mf", which="removed")
 
-Cutters (placed tool pieces and translation hulls, :mod:`vmach.stock.sweep`) are queued per
-partition cell and subtracted ``batch`` at a time with one batch boolean. Subtraction commutes,
-so the order in which cells and batches are processed does not change the result. After every
-batch the cell is evaluated and checked: a valid manifold whose volume did not grow.
+A path becomes cutters (placed tool pieces and translation hulls, :mod:`vmach.stock.sweep`),
+trimmed exactly to the box around the stock (:mod:`vmach.stock.clip`); placed poses that a
+translation hull of the same path contains are left out. Cutters are queued per piece of stock
+and subtracted in checked batches (:mod:`vmach.stock.batch`). Subtraction commutes, so the
+order of pieces and batches does not change the result.
 """
 
 from __future__ import annotations
 
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from vmach.errors import InputError
 from vmach.stock import engine
+from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, clip, shape
 from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
@@ -34,7 +36,12 @@ EXPORT_FORMATS = (".stl", ".3mf", ".ply")
 
 @dataclass
 class CutStats:
-    """Counters of a stock's life (seconds, counts)."""
+    """Counters of a stock's life (seconds, counts).
+
+    cutters : cutters made; culled : cutters that miss the stock; covered : placed poses left
+    out because a translation hull contains them; sweep_seconds : making cutters;
+    boolean_seconds : batch booleans.
+    """
 
     paths: int = 0
     poses: int = 0
@@ -44,14 +51,6 @@ class CutStats:
     batches: int = 0
     sweep_seconds: float = 0.0
     boolean_seconds: float = 0.0
-
-
-@dataclass
-class _Cell:
-    solid: engine.Solid
-    box: np.ndarray                       # (2, 3) current bounds
-    volume: float
-    pending: list = field(default_factory=list)
 
 
 _IDENTITY = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
@@ -73,41 +72,48 @@ class Stock:
 
     solid : engine.Solid — the blank.
     batch : int — cutters per batch boolean.
-    cells : (3,) int — partition of the blank's bounds into nx × ny × nz cells (1, 1, 1: none).
-    chord : float, mm — polygonisation tolerance of tool solids.
+    cells : (3,) int — partition of the blank's bounds into nx × ny × nz cells (1, 1, 1: none;
+        in-process only).
+    chord : float, mm — polygonisation tolerance of tool solids (surfaces made by a tool's
+        side; a flat face is exact).
     progress : bool — show a progress bar on stderr when it is a terminal.
-    trim : bool — trim cutters to the box around the stock (:mod:`vmach.stock.clip`; exact)
-        and drop placed poses that a translation hull of the same path already contains.
+    trim : bool — trim cutters to the box around the stock (exact) and leave out placed poses
+        that a translation hull of the same path contains.
+    spread : int — batches taken from one window of queued cutters (:mod:`vmach.stock.batch`).
     """
+
+    CHUNK = 256  # poses swept at a time (cutters are queued, and may be subtracted, as they come)
+    GROUP = 16   # consecutive cutters kept together in a spread batch
 
     def __init__(self, solid: engine.Solid, *, batch: int = 64,
                  cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
-                 progress: bool = False, trim: bool = True):
+                 progress: bool = False, trim: bool = True, spread: int = 8):
         engine.check(solid, "blank")
         self.initial = solid
         self.initial_bounds = engine.bounds(solid)
         self.batch = max(1, int(batch))
+        self.spread = max(1, int(spread))
         self.chord = chord
+        self.trim = trim
         self.stats = CutStats()
         self._cells = self._partition(solid, cells)
         self._solid: engine.Solid | None = solid
         self._bar = None
         self._progress = progress and sys.stderr.isatty()
-        self._piece_cache: dict[tuple, list[engine.Solid]] = {}
-        self._shape_cache: dict[tuple, list[Shape]] = {}
-        self.trim = trim
+        self._piece_cache: dict[int, list[engine.Solid]] = {}
+        self._shape_cache: dict[int, list[Shape]] = {}
+        self._local_seconds = 0.0
 
     @classmethod
     def from_spec(cls, spec: str, **kw) -> Stock:
         return cls(parse_stock(spec), **kw)
 
     # ----------------------------------------------------------------------------------------
-    @staticmethod
-    def _partition(solid: engine.Solid, cells) -> list[_Cell]:
+    def _partition(self, solid: engine.Solid, cells) -> list[Piece]:
         nx, ny, nz = (max(1, int(c)) for c in cells)
-        b = engine.bounds(solid)
         if nx * ny * nz == 1:
-            return [_Cell(solid, b, engine.volume(solid))]
+            return [self._piece(solid)]
+        b = engine.bounds(solid)
         pad = 1e-3
         edges = [np.linspace(b[0, i] - pad, b[1, i] + pad, n + 1) for i, n in enumerate((nx, ny, nz))]
         out = []
@@ -119,20 +125,21 @@ class Stock:
                     piece = engine.intersect(solid, engine.box(lo, hi))
                     engine.check(piece, "stock cell")
                     if not engine.is_empty(piece):
-                        out.append(_Cell(piece, engine.bounds(piece), engine.volume(piece)))
+                        out.append(self._piece(piece))
         return out
 
+    def _piece(self, solid: engine.Solid) -> Piece:
+        return Piece(solid, self.batch, self.spread, self.GROUP)
+
     def _tool_pieces(self, ts: ToolSolid) -> list[engine.Solid]:
-        key = (id(ts),)
-        if key not in self._piece_cache:
-            self._piece_cache[key] = [engine.hull(p) for p in ts.pieces]
-        return self._piece_cache[key]
+        if id(ts) not in self._piece_cache:
+            self._piece_cache[id(ts)] = [engine.hull(p) for p in ts.pieces]
+        return self._piece_cache[id(ts)]
 
     def _tool_shapes(self, ts: ToolSolid) -> list[Shape]:
-        key = (id(ts),)
-        if key not in self._shape_cache:
-            self._shape_cache[key] = [shape(*engine.hull_mesh(p)) for p in ts.pieces]
-        return self._shape_cache[key]
+        if id(ts) not in self._shape_cache:
+            self._shape_cache[id(ts)] = [shape(*engine.hull_mesh(p)) for p in ts.pieces]
+        return self._shape_cache[id(ts)]
 
     def trim_box(self) -> np.ndarray:
         """(2, 3) float, mm — the box cutters are trimmed to: the stock's bounds now, grown by
@@ -142,7 +149,7 @@ class Stock:
 
     # ----------------------------------------------------------------------------------------
     def cut(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray) -> int:
-        """Queue the swept volume of one path; returns the number of cutters queued.
+        """Queue the swept volume of one path; returns the number of cutters made.
 
         tool : Tool (polygonised with this stock's chord) or a ready ToolSolid.
         tips : (n, 3) float, mm; axes : (n, 3) float, unit — poses in the work frame, joined by
@@ -150,7 +157,10 @@ class Stock:
         (see :mod:`vmach.stock.sweep`).
         """
         n = 0
-        for cutters, boxes in self._sweep(tool, tips, axes):
+        for ts, jobs in self._sweep(tool, tips, axes):
+            t0 = time.perf_counter()
+            cutters, boxes = self._make(ts, jobs)
+            self.stats.sweep_seconds += time.perf_counter() - t0
             self._queue(cutters, boxes)
             n += len(cutters)
         return n
@@ -160,15 +170,17 @@ class Stock:
         :meth:`trim_box`) and their boxes (c, 2, 3), without queueing them."""
         cutters: list[engine.Solid] = []
         boxes: list[np.ndarray] = []
-        for c, b in self._sweep(tool, tips, axes):
+        for ts, jobs in self._sweep(tool, tips, axes):
+            t0 = time.perf_counter()
+            c, b = self._make(ts, jobs)
+            self.stats.sweep_seconds += time.perf_counter() - t0
             cutters += c
             boxes += b
         return cutters, boxes
 
-    CHUNK = 256  # poses swept at a time (cutters are queued, and may be subtracted, as they come)
-
     def _sweep(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray):
-        """Yield (cutters, boxes) for consecutive stretches of a path, in path order."""
+        """Yield (tool solid, jobs) for consecutive stretches of a path, in path order. A job
+        is ``(piece, frames (m, 3, 4) of placed poses, [run points (q, 3), ...])``."""
         t0 = time.perf_counter()
         ts = tool if isinstance(tool, ToolSolid) else tool_solid(tool, self.chord)
         tips = np.asarray(tips, dtype=float).reshape(-1, 3)
@@ -183,60 +195,58 @@ class Stock:
             return
         sp = plan(tips, axes)
         fr = frames(tips, axes)
-        solids = self._tool_pieces(ts)
         poses = sp.poses
         if self.trim:
             poses = _outside_runs(poses, sp.runs)
             self.stats.covered += (len(sp.poses) - len(poses)) * len(ts.pieces)
-            shapes = self._tool_shapes(ts)
-        # placed poses and runs in path order
         start = np.concatenate([poses, sp.runs[:, 0]]) if len(sp.runs) else poses
         kind = np.r_[np.zeros(len(poses), int), np.ones(len(sp.runs), int)]
-        which = np.r_[np.arange(len(poses)), np.arange(len(sp.runs))]
+        which = np.r_[np.arange(len(poses)), np.arange(len(sp.runs))].astype(int)
         order = np.argsort(start, kind="stable")
         for c0 in range(0, len(order), self.CHUNK):
             part = order[c0 : c0 + self.CHUNK]
             chunk_poses = poses[which[part][kind[part] == 0]]
-            chunk_runs = sp.runs[which[part][kind[part] == 1]]
-            cutters: list[engine.Solid] = []
-            boxes: list[np.ndarray] = []
-            box = self.trim_box() if self.trim else None
-            for k, pts in enumerate(ts.pieces):
-                if len(chunk_poses) and self.trim:
-                    trimmed, inside = clip(shapes[k], fr[chunk_poses], box[0], box[1])
-                    for j, q in enumerate(trimmed):
-                        if q is None:
-                            self.stats.culled += 1
-                            continue
-                        cutters.append(engine.transform(solids[k], fr[chunk_poses[j]]) if inside[j]
-                                       else engine.hull(q))
-                        boxes.append(np.stack([q.min(axis=0), q.max(axis=0)]))
-                elif len(chunk_poses):
-                    placed = place(pts, fr[chunk_poses])                  # (m, p, 3)
-                    lo, hi = placed.min(axis=1), placed.max(axis=1)
-                    for j, pose in enumerate(chunk_poses):
-                        cutters.append(engine.transform(solids[k], fr[pose]))
-                        boxes.append(np.stack([lo[j], hi[j]]))
-                for run in chunk_runs:
-                    a, b = run_extremes(tips, run)
-                    both = place(pts, fr[[a, b]]).reshape(-1, 3)
-                    lo, hi = both.min(axis=0), both.max(axis=0)
-                    if self.trim and not (np.all(lo >= box[0]) and np.all(hi <= box[1])):
-                        q = None
-                        if not (np.any(hi < box[0]) or np.any(lo > box[1])):
-                            q = clip(shape(*engine.hull_mesh(both)), _IDENTITY, box[0], box[1])[0][0]
-                        if q is None:
-                            self.stats.culled += 1
-                            continue
-                        cutters.append(engine.hull(q))
-                        boxes.append(np.stack([q.min(axis=0), q.max(axis=0)]))
-                        continue
-                    cutters.append(engine.hull(both))
-                    boxes.append(np.stack([lo, hi]))
+            ends = [run_extremes(tips, r) for r in sp.runs[which[part][kind[part] == 1]]]
+            jobs = [(k, fr[chunk_poses], [place(pts, fr[[a, b]]).reshape(-1, 3) for a, b in ends])
+                    for k, pts in enumerate(ts.pieces)]
             self.stats.sweep_seconds += time.perf_counter() - t0
-            yield cutters, boxes
+            yield ts, jobs
             t0 = time.perf_counter()
         self.stats.sweep_seconds += time.perf_counter() - t0
+
+    def _make(self, ts: ToolSolid, jobs) -> tuple[list[engine.Solid], list[np.ndarray]]:
+        """Cutters of one stretch, in this process, trimmed to :meth:`trim_box`."""
+        cutters: list[engine.Solid] = []
+        boxes: list[np.ndarray] = []
+        solids = self._tool_pieces(ts)
+        box = self.trim_box() if self.trim else None
+        for k, fr, runs in jobs:
+            if len(fr) and self.trim:
+                trimmed, inside = clip(self._tool_shapes(ts)[k], fr, box[0], box[1])
+                for j, q in enumerate(trimmed):
+                    if q is None:
+                        self.stats.culled += 1
+                        continue
+                    cutters.append(engine.transform(solids[k], fr[j]) if inside[j] else engine.hull(q))
+                    boxes.append(np.stack([q.min(axis=0), q.max(axis=0)]))
+            elif len(fr):
+                placed = place(ts.pieces[k], fr)                            # (m, p, 3)
+                for j in range(len(fr)):
+                    cutters.append(engine.transform(solids[k], fr[j]))
+                    boxes.append(np.stack([placed[j].min(axis=0), placed[j].max(axis=0)]))
+            for both in runs:
+                lo, hi = both.min(axis=0), both.max(axis=0)
+                if self.trim and not (np.all(lo >= box[0]) and np.all(hi <= box[1])):
+                    q = None
+                    if not (np.any(hi < box[0]) or np.any(lo > box[1])):
+                        q = clip(shape(*engine.hull_mesh(both)), _IDENTITY, box[0], box[1])[0][0]
+                    if q is None:
+                        self.stats.culled += 1
+                        continue
+                    both, lo, hi = q, q.min(axis=0), q.max(axis=0)
+                cutters.append(engine.hull(both))
+                boxes.append(np.stack([lo, hi]))
+        return cutters, boxes
 
     def queue(self, cutters: list, boxes: list) -> None:
         """Queue ready cutters (from :meth:`cutters`)."""
@@ -248,46 +258,50 @@ class Stock:
         self._solid = None
         bx = np.asarray(boxes)                                            # (c, 2, 3)
         used = np.zeros(len(cutters), bool)
+        queued = 0
         for cell in self._cells:
             hit = np.all(bx[:, 0] <= cell.box[1], axis=1) & np.all(bx[:, 1] >= cell.box[0], axis=1)
             used |= hit
-            for i in np.nonzero(hit)[0]:
-                cell.pending.append(cutters[i])
-            while len(cell.pending) >= self.batch:
-                self._flush_cell(cell, self.batch)
+            queued += int(hit.sum())
+            before = cell.seconds
+            cell.add([cutters[i] for i in np.nonzero(hit)[0]])
+            self._local_seconds += cell.seconds - before
         self.stats.cutters += len(cutters)
         self.stats.culled += int((~used).sum())
+        self._account()
         if self._progress:
-            if self._bar is None:
-                from tqdm import tqdm
+            self._open_bar(queued)
 
-                self._bar = tqdm(total=0, unit="cutter", desc="stock", leave=False)
-            self._bar.total += int(used.sum())
-            self._bar.refresh()
+    def _account(self) -> None:
+        self.stats.boolean_seconds = self._local_seconds
+        self.stats.batches = sum(c.batches for c in self._cells)
+        self._update_bar()
 
-    def _flush_cell(self, cell: _Cell, count: int | None = None) -> None:
-        take = cell.pending[:count] if count else cell.pending
-        cell.pending = cell.pending[len(take):]
-        if not take:
+    def _open_bar(self, more: int) -> None:
+        if self._bar is None:
+            from tqdm import tqdm
+
+            self._bar = tqdm(total=0, unit="cutter", desc="stock", leave=False)
+        self._bar.total += more
+        self._update_bar()
+
+    def _update_bar(self) -> None:
+        if self._bar is None:
             return
-        t0 = time.perf_counter()
-        new = engine.subtract(cell.solid, take)
-        engine.check(new, "stock")
-        vol = engine.volume(new)
-        if vol > cell.volume * (1 + 1e-9) + 1e-9:
-            raise engine.StockError(f"stock volume grew from {cell.volume:.6f} to {vol:.6f} mm³")
-        cell.solid, cell.volume = new, vol
-        cell.box = engine.bounds(new) if not engine.is_empty(new) else np.array([[np.inf] * 3, [-np.inf] * 3])
-        self.stats.batches += 1
-        self.stats.boolean_seconds += time.perf_counter() - t0
-        if self._bar is not None:
-            self._bar.update(len(take))
+        done = sum(c.done for c in self._cells)
+        self._bar.n = min(done, self._bar.total)
+        self._bar.refresh()
+
+    def _flush_cells(self) -> None:
+        for cell in self._cells:
+            before = cell.seconds
+            cell.flush()
+            self._local_seconds += cell.seconds - before
 
     def flush(self) -> None:
         """Subtract every queued cutter."""
-        for cell in self._cells:
-            while cell.pending:
-                self._flush_cell(cell, self.batch)
+        self._flush_cells()
+        self._account()
         if self._bar is not None:
             self._bar.close()
             self._bar = None
@@ -301,8 +315,22 @@ class Stock:
             t0 = time.perf_counter()
             self._solid = engine.union([c.solid for c in self._cells])
             engine.check(self._solid, "stock")
-            self.stats.boolean_seconds += time.perf_counter() - t0
+            self._local_seconds += time.perf_counter() - t0
+            self._account()
         return self._solid
+
+    def local(self, lo, hi) -> engine.Solid:
+        """The stock now (pending cutters subtracted) inside the box [lo, hi] — exact there,
+        and cheaper to measure against than the whole stock."""
+        lo = np.asarray(lo, dtype=float)
+        hi = np.asarray(hi, dtype=float)
+        if self._solid is not None:
+            return engine.intersect(self._solid, engine.box(lo, hi))
+        self._flush_cells()
+        self._account()
+        box = engine.box(lo, hi)
+        return engine.union([engine.intersect(c.solid, box) for c in self._cells
+                             if np.all(c.box[0] <= hi) and np.all(c.box[1] >= lo)])
 
     def removed(self) -> engine.Solid:
         """The removed material: blank minus part."""
@@ -310,14 +338,16 @@ class Stock:
 
     @property
     def bounds(self) -> np.ndarray:
-        """(2, 3) float, mm — bounds of the stock now (pending cutters not yet subtracted)."""
-        boxes = np.array([c.box for c in self._cells])
+        """(2, 3) float, mm — bounds of the stock now (pending cutters not yet subtracted: the
+        stock only shrinks, so this is conservative)."""
+        boxes = np.array([c.box for c in self._cells]) if self._cells else EMPTY_BOX[None]
         return np.stack([boxes[:, 0].min(axis=0), boxes[:, 1].max(axis=0)])
 
     @property
     def volume(self) -> float:
-        return sum(c.volume for c in self._cells) if self._solid is None and not any(
-            c.pending for c in self._cells) else engine.volume(self.solid)
+        if self._solid is None and not any(c.pending for c in self._cells):
+            return sum(c.volume for c in self._cells)
+        return engine.volume(self.solid)
 
     def section(self, z: float) -> list[np.ndarray]:
         """Contours of the part at Z = z, each (k, 2) float, mm."""
