@@ -36,8 +36,12 @@ class Tolerances:
     #: Stock removal: largest tool-tip travel between two sampled poses of a rotary move, mm.
     sweep_step: float = 1.0
     #: Polygonisation of revolved tool solids: largest radial deviation of the polygon from
-    #: the true circle, mm (the polygon straddles the circle, so half of its sagitta).
-    tool_chord: float = 0.002
+    #: the true circle, mm (the polygon straddles the circle, so half of its sagitta). It bounds
+    #: the error of surfaces made by a tool's side; a flat face is exact for any polygon. 0.01
+    #: is half the booleans' time of 0.002 on the polygon shaft (docs/stock.md).
+    tool_chord: float = 0.01
+    #: Polygonisation of a round blank (``--stock cylinder:...``), mm, as ``tool_chord``.
+    blank_chord: float = 0.002
     #: Stock removal: convex hull used for a move only while its rotation stays below this
     #: angle, degrees (above it the hull overcuts by about R·sin(δ/2); see docs/stock.md).
     hull_angle: float = 1e-6

@@ -143,11 +143,11 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
     into material and shank/holder contact (:mod:`vmach.stock.events`).
 
     Per chunk of ``CHUNK`` rows: boxes pick the rows whose rapid cutter or parts could reach
-    material; their solids are met with the blank, then with the stock *inside the box around
-    them* (:meth:`Stock.local`, exact there and much smaller than the stock). Material only
-    decreases, so if nothing overlaps before the chunk the chunk is cleared and cut as a whole;
-    otherwise its rows are cut one by one on that local stock, and each watched row is measured
-    on it exactly."""
+    material, and their solids are met with the blank one by one (convex, a few hundred
+    triangles each). If none reaches into the blank the chunk is cut as a whole. Otherwise the
+    stock inside the box around those solids is taken (:meth:`Stock.local`: exact there, and
+    much smaller than the stock), the chunk's rows are cut from it one by one, and each watched
+    row is measured on it exactly; the chunk is then cut from the stock as one path."""
     tips, ax = pose.tip, pose.axis
     first = np.r_[0, np.cumsum(k)[:-1]]
     span = [(first[j], first[j] + k[j] + 1) for j in range(b - a)]
@@ -161,50 +161,50 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
     for c0 in range(0, b - a, CHUNK):
         rows = range(c0, min(c0 + CHUNK, b - a))
         here = stock.bounds
-        watch_parts = [j for j in rows if part_hit[span[j][0]:span[j][1]].any()]
-        watch_rapid = []
+        probes: dict = {}
         for j in rows:
+            s, e = span[j]
             if rapid[j]:
-                s, e = span[j]
                 box = np.stack([cut_boxes[s:e, 0].min(axis=0), cut_boxes[s:e, 1].max(axis=0)])
                 if overlaps(box[None], here)[0]:
-                    watch_rapid.append(j)
-        probes = {}
-        for j in watch_rapid:
-            c, bx = stock.cutters(tool, tips[span[j][0]:span[j][1]], ax[span[j][0]:span[j][1]])
-            probes[("rapid", j)] = (c, bx)
-        for j in watch_parts:
-            for p in parts:
-                q = part_solids(p, tips[span[j][0]:span[j][1]], ax[span[j][0]:span[j][1]])
-                probes[(p.name, j)] = (q, [engine.bounds(x) for x in q])
-        # only probes that reach into the blank at all (a few hundred triangles each)
-        probes = {key: v for key, v in probes.items()
-                  if v[0] and overlap_volume(stock.initial, v[0])[0] > tol.removal_volume}
-        local = None
-        if probes:
-            boxes = np.array([bx for _, bxs in probes.values() for bx in bxs])
-            lo = np.maximum(boxes[:, 0].min(axis=0), here[0]) - tol.trim_margin
-            hi = np.minimum(boxes[:, 1].max(axis=0), here[1]) + tol.trim_margin
-            if np.all(lo <= hi):
-                local = stock.local(lo, hi)
-                touched = [s for s, _ in probes.values()]
-                if overlap_volume(local, [x for q in touched for x in q])[0] <= tol.removal_volume:
-                    local = None
-        if local is None:
-            s, e = span[rows[0]][0], span[rows[-1]][1]
+                    probes[("rapid", j)] = stock.cutters(tool, tips[s:e], ax[s:e])
+            if part_hit[s:e].any():
+                for p in parts:
+                    q = part_solids(p, tips[s:e], ax[s:e])
+                    probes[(p.name, j)] = (q, [engine.bounds(x) for x in q])
+        probes = {key: v for key, v in probes.items() if _meets(stock.initial, v[0])}
+        s, e = span[rows[0]][0], span[rows[-1]][1]
+        if not probes:
             stock.cut(tool, tips[s:e], ax[s:e])
             continue
+        boxes = np.array([bx for _, bxs in probes.values() for bx in bxs])
+        lo = np.maximum(boxes[:, 0].min(axis=0), here[0]) - tol.trim_margin
+        hi = np.minimum(boxes[:, 1].max(axis=0), here[1]) + tol.trim_margin
+        before = stock.local(lo, hi) if np.all(lo <= hi) else engine.empty()
+        local = before
+        done: list = []                  # the chunk's cutters so far (for close-up snapshots)
+        last = max(j for _, j in probes)
         for j in rows:
-            local = _cut_one(stock, local, tool, table, a + j, tips[span[j][0]:span[j][1]],
-                             ax[span[j][0]:span[j][1]], probes.get(("rapid", j)),
+            if j > last:
+                break
+            s_j, e_j = span[j]
+            local = _cut_one(stock, local, done, tool, table, a + j, tips[s_j:e_j], ax[s_j:e_j],
+                             probes.get(("rapid", j)),
                              [(p, probes[(p.name, j)][0]) for p in parts if (p.name, j) in probes], res)
+        stock.cut(tool, tips[s:e], ax[s:e])
 
 
-def _cut_one(stock: Stock, local, tool, table, row: int, tips, ax, rapid, parts: list, res: SimResult):
-    """Cut one move alone; measure what a rapid removes and what the parts touch after it, on
-    ``local`` (the stock inside a box that holds every probe). Returns the local stock after
-    the move."""
-    cutters, boxes = rapid if rapid is not None else stock.cutters(tool, tips, ax)
+def _meets(solid, probe: list) -> bool:
+    """Does any of the (convex) probe solids overlap ``solid`` at all?"""
+    return any(overlap_volume(solid, [q])[0] > 0.0 for q in probe)
+
+
+def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, rapid, parts: list,
+             res: SimResult):
+    """Cut one move from ``local`` (the stock inside a box that holds every probe); measure on
+    it what a rapid removes and what the parts touch after the move's own cut. Returns the
+    local stock after the move."""
+    cutters, _ = rapid if rapid is not None else stock.cutters(tool, tips, ax)
     if rapid is not None:
         removed, centre = overlap_volume(local, cutters)
         if removed > tol.removal_volume:
@@ -214,11 +214,11 @@ def _cut_one(stock: Stock, local, tool, table, row: int, tips, ax, rapid, parts:
                 f"rapid move removes {removed:.3f} mm³ of material around "
                 f"({c[0]:.2f}, {c[1]:.2f}, {c[2]:.2f}) mm (work frame)",
                 table.source(row), row, {"volume_mm3": round(removed, 4), "at_mm": c}))
-    stock.queue(cutters, boxes)
+    done += cutters
     if cutters:
         local = engine.subtract(local, cutters)   # lazy: evaluated by the next measurement
     if rapid is not None and res.findings and res.findings[-1].move_index == row:
-        _snapshot(stock, row, res)
+        _snapshot(stock, done, row, res)
     for p, solids in parts:
         vol, centre = overlap_volume(local, solids)  # the stock after this move's own cut
         if vol > tol.removal_volume:
@@ -226,15 +226,17 @@ def _cut_one(stock: Stock, local, tool, table, row: int, tips, ax, rapid, parts:
                 "holder_collision", "error", f"the tool's {p.name} runs {vol:.3f} mm³ into the stock",
                 table.source(row), row,
                 {"part": p.name, "volume_mm3": round(vol, 4), "at_mm": np.round(centre, 3).tolist()}))
-            _snapshot(stock, row, res)
+            _snapshot(stock, done, row, res)
     return local
 
 
 SNAPSHOTS = 12  # close-up pictures are made of the first few findings only
 
 
-def _snapshot(stock: Stock, row: int, res: SimResult) -> None:
+def _snapshot(stock: Stock, done: list, row: int, res: SimResult) -> None:
+    """The stock right after ``row``: the stock before its chunk minus the chunk's cutters up
+    to and including the row's own (``done``)."""
     lines = {f.line for f in res.findings if f.move_index in res.snapshots}
     here = next((f.line for f in reversed(res.findings) if f.move_index == row), None)
     if len(res.snapshots) < SNAPSHOTS and row not in res.snapshots and here not in lines:
-        res.snapshots[row] = engine.to_mesh(stock.solid)
+        res.snapshots[row] = engine.to_mesh(engine.subtract(stock.solid, done))

@@ -7,7 +7,7 @@
 - ``mesh:path.stl`` — any closed mesh trimesh reads (``.stl``, ``.ply``, ``.obj``, ``.3mf``...),
   in work coordinates as it is.
 
-Round stock is a polygon straddling the true circle within ``tol.tool_chord``.
+Round stock is a polygon straddling the true circle within ``tol.blank_chord``.
 """
 
 from __future__ import annotations
@@ -59,7 +59,7 @@ def parse_stock(spec: str, base: str | Path | None = None) -> engine.Solid:
             if p[k] <= 0 or not math.isfinite(p[k]):
                 raise InputError(f"stock cylinder: {k} must be > 0", kind="stock_spec")
         r = p["d"] / 2.0
-        n = segments_for(r, tol.tool_chord)
+        n = segments_for(r, tol.blank_chord)
         top = p.get("z", 0.0)
         return engine.cylinder(straddle_radius(r, n), top - p["l"], top, n)
     if kind == "box":
