@@ -125,3 +125,42 @@ def test_bad_poses_are_input_errors(face40):
         stock.cut(face40, np.zeros((2, 3)), np.zeros((3, 3)))
     with pytest.raises(InputError):
         stock.cut(face40, np.full((1, 3), np.nan), np.array([[1.0, 0, 0]]))
+
+
+def test_spread_batches_remove_exactly_what_queue_order_does(face40):
+    """Batches spread over a window of queued cutters (vmach/stock/batch.py) only change the
+    order of the subtraction, which commutes."""
+    c = np.arange(0.0, 120.0, 1.713)
+    tips, axes = turnmill(26.5, np.linspace(-6, 6, len(c)), -15.0 - 0.01 * np.arange(len(c)), c)
+    vols = []
+    for spread in (1, 4):
+        stock = Stock.from_spec("cylinder:d=60,l=40", chord=0.01, batch=8, spread=spread)
+        stock.cut(face40, tips, axes)
+        vols.append(stock.volume)
+        assert stock.stats.batches >= 8
+    assert vols[1] == pytest.approx(vols[0], rel=1e-12)
+
+
+def test_side_made_surface_is_within_the_tool_chord(library):
+    """The D25 end mill turned a full revolution about the work axis at X = 26: its flat face
+    makes the round flank (exact for any polygon) and its side makes the floor at Z = zc - R.
+    The polygonised side (tol.tool_chord) puts that floor within the polygon's deviation of the
+    true one, never more than the chord."""
+    from vmach.checks.profile import axis_contour
+    from vmach.tol import tol
+
+    tool = library.lookup("GLOD D25")
+    zc, h = -20.0, 26.0
+    c = np.arange(0.0, 360.0 + 1e-9, 1.0)
+    tips, axes = turnmill(h, 0.0, zc, c)
+    ts = tool_solid(tool, tol.tool_chord)
+    assert ts.deviation <= tol.tool_chord
+    stock = Stock.from_spec("cylinder:d=60,l=60")
+    stock.cut(tool, tips, axes)
+    v, f = engine.to_mesh(stock.removed())
+    r = np.hypot(v[:, 0], v[:, 1])
+    floor = v[(r > h + 0.5) & (r < 29.0), 2].min()
+    assert abs(floor - (zc - tool.radius)) <= ts.deviation + 1e-6
+    # the flank made by the face is the tangent polygon of radius h, whatever the chord
+    edge = edge_distance(axis_contour(stock.section(zc)))
+    assert edge.min() >= h - 1e-4 and edge.max() <= h + float(scallop_bound(h, 1.0)) + 1e-4
