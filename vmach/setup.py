@@ -17,7 +17,7 @@ Command-line options win; otherwise a ``vmach.toml`` beside the program says wha
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -87,16 +87,19 @@ def read_setup(program: str | Path) -> Setup:
 
 def control_for(program: str | Path, machine: str | None) -> tuple[ControlSpec, Path | None]:
     """The ControlSpec a program runs against: ``--machine``, else the setup file, else none."""
-    from dataclasses import replace
-
     from vmach.machine.control import load_control
 
     setup = read_setup(program)
     path = resolve_model(machine) if machine else setup.machine
     control = load_control(path) if path else DEFAULT_CONTROL
-    if setup.zero_offsets:
-        merged = {k: dict(v) for k, v in control.zero_offsets.items()}
-        for k, v in setup.zero_offsets.items():
-            merged.setdefault(k, {}).update(v)
-        control = replace(control, zero_offsets=merged)
-    return control, path
+    return with_offsets(control, setup), path
+
+
+def with_offsets(control: ControlSpec, setup: Setup) -> ControlSpec:
+    """The control with the setup file's zero offsets laid over the model's."""
+    if not setup.zero_offsets:
+        return control
+    merged = {k: dict(v) for k, v in control.zero_offsets.items()}
+    for k, v in setup.zero_offsets.items():
+        merged.setdefault(k, {}).update(v)
+    return replace(control, zero_offsets=merged)

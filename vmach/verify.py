@@ -23,7 +23,7 @@ from vmach.checks.process import spindle_off_cuts, unknown_tools, zero_feeds
 from vmach.errors import InputError
 from vmach.findings import Finding, sort_key
 from vmach.motion import MoveTable, build
-from vmach.setup import Setup, read_setup, resolve_model
+from vmach.setup import Setup, read_setup, resolve_model, with_offsets
 
 
 @dataclass
@@ -151,14 +151,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             )
         model = load_model(report.machine_path)
         report.model = model
-        control = model.control
-        if setup.zero_offsets:
-            from dataclasses import replace
-
-            merged = {k: dict(v) for k, v in control.zero_offsets.items()}
-            for k, v in setup.zero_offsets.items():
-                merged.setdefault(k, {}).update(v)
-            control = replace(control, zero_offsets=merged)
+        control = with_offsets(model.control, setup)
         tools_path = Path(options.tools) if options.tools else setup.tools
         report.tools_path = tools_path
         library = None
@@ -183,7 +176,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         if library is not None:
             report.findings.extend(unknown_tools(result.commands, library))
         report.findings.extend(zero_feeds(table))
-        report.findings.extend(spindle_off_cuts(table, _tool_spindle(model)))
+        report.findings.extend(spindle_off_cuts(table, model.tool_spindle))
         report.findings.extend(_limit_findings(model, table))
 
     with clock("cycle_time"):
@@ -243,13 +236,6 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
 
     report.timings["total"] = time.perf_counter() - t0
     return report
-
-
-def _tool_spindle(model) -> int | None:
-    raw = getattr(model, "_raw", None) or {}
-    ctl = raw.get("control", {}) if isinstance(raw, dict) else {}
-    ts = ctl.get("tool_spindle")
-    return int(ts) if ts is not None else None
 
 
 def _limit_findings(model, table: MoveTable) -> list[Finding]:

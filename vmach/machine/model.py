@@ -183,6 +183,13 @@ class Model:
             q[:, self.axes.index(name)] = v
         return q
 
+    @property
+    def tool_spindle(self) -> int | None:
+        """The spindle that turns the cutter (``[control] tool_spindle``), None if not stated."""
+        ctl = self._raw.get("control", {}) if isinstance(self._raw, Mapping) else {}
+        ts = ctl.get("tool_spindle") if isinstance(ctl, Mapping) else None
+        return int(ts) if isinstance(ts, int) and not isinstance(ts, bool) else None
+
     def fk(self, q: np.ndarray) -> ToolPose:
         """Tool tip and axis in the workpiece frame for q : (n, k) float (mm, degrees)."""
         tip, axis = self.chain.tool_in_work(q)
