@@ -37,15 +37,8 @@ class Part:
 
 
 def body_parts(tool) -> list[Part]:
-    """Shank and holder of a :class:`vmach.tooling.model.Tool`, stacked above the cutting part."""
-    out = []
-    z = tool.cutting_length
-    if tool.shank_length > 0 and tool.shank_diameter > 0:
-        out.append(Part("shank", z, z + tool.shank_length, tool.shank_diameter / 2))
-        z += tool.shank_length
-    if tool.holder_length > 0 and tool.holder_diameter > 0:
-        out.append(Part("holder", z, z + tool.holder_length, tool.holder_diameter / 2))
-    return out
+    """Shank and holder of a :class:`vmach.tooling.model.Tool`: its stack without the cutter."""
+    return [Part(*p) for p in tool.stack() if p[0] != "cutter"]
 
 
 def cylinder_boxes(tips: np.ndarray, axes: np.ndarray, z0: float, z1: float, radius: float) -> np.ndarray:
