@@ -180,15 +180,16 @@ def make_pictures(report, out_dir: Path) -> dict[str, str]:
         z = [s["z"] for s in report.profile["stations"]]
         dev = deviation_per_vertex(v, prof, report.profile["phase_deg"], min(z), max(z))
         lo, hi = report.profile["tolerance_mm"]
-        span = max(abs(lo), abs(hi), float(np.nanmax(np.abs(dev))) if np.isfinite(dev).any() else 0.0)
+        # white is the middle of the band; the band's edges sit a third of the way to the ends of
+        # the colour bar, so red (material outside) and blue (gouge) mean "out of tolerance"
+        mid = (lo + hi) / 2
+        worst = float(np.nanmax(np.abs(dev - mid))) if np.isfinite(dev).any() else 0.0
+        span = max(1.5 * (hi - lo), worst)
+        keep = np.all(v[f][:, :, 2] > min(z) - 10.0, axis=1)  # the profiled end, not the whole bar
         render.part_deviation_png(
-            out_dir / "part_deviation.png",
-            v,
-            f,
-            dev,
-            (-span, span),
-            title=f"{report.profile_spec}: deviation from nominal, band "
-            f"[{lo * 1000:+.1f}, {hi * 1000:+.1f}] µm",
+            out_dir / "part_deviation.png", v, f[keep], dev, (mid - span, mid + span),
+            title=f"{report.profile_spec}: deviation from nominal [mm]; band "
+            f"{lo * 1000:+.1f}..{hi * 1000:+.1f} um, white = middle of the band",
         )
         images["part_deviation"] = "part_deviation.png"
     images.update(collision_pictures(report, out_dir))
