@@ -201,7 +201,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             from vmach.stock.simulate import simulate
 
             stock = Stock.from_spec(spec, progress=not options.quiet)
-            sim = simulate(table, model, library, stock, checks=True)
+            sim = simulate(table, model, library, stock, checks=True, clearance=options.clearance)
             report.part = stock
             report.sim = sim
             # tools missing from the library are already `unknown_tool` errors
@@ -338,15 +338,16 @@ def _group_by_block(findings) -> list[Finding]:
         if len(fs) == 1:
             out.append(f)
             continue
-        vols = [x.data.get("volume_mm3", 0.0) for x in fs]
-        data = {
-            **f.data,
-            "occurrences": len(fs),
-            "volume_mm3": round(sum(vols), 4),
-            "max_volume_mm3": max(vols),
-            "last_move_index": fs[-1].move_index,
-        }
-        msg = f"{f.message} (and {len(fs) - 1} more times; {sum(vols):.3f} mm³ in all)"
+        data = {**f.data, "occurrences": len(fs), "last_move_index": fs[-1].move_index}
+        extra = ""
+        if "volume_mm3" in f.data:
+            vols = [x.data["volume_mm3"] for x in fs]
+            data.update(volume_mm3=round(sum(vols), 4), max_volume_mm3=max(vols))
+            extra = f"; {sum(vols):.3f} mm³ in all"
+        if "distance_mm" in f.data:
+            data["distance_mm"] = min(x.data["distance_mm"] for x in fs)
+            extra = f"; closest {data['distance_mm']:.3f} mm"
+        msg = f"{f.message} (and {len(fs) - 1} more times{extra})"
         out.append(Finding(f.kind, f.severity, msg, f.source, f.move_index, data))
     return out
 

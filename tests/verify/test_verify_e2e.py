@@ -127,3 +127,20 @@ def test_unknown_workpiece_form_is_a_clear_error(tmp_path, capsys):
     assert main(["verify", str(prog), "--out", str(tmp_path / "o"), "--no-images"]) == 2
     err = capsys.readouterr().err
     assert f"FLATS.MPF:{line_of('N5')}:1: error[workpiece]" in err and "Traceback" not in err
+
+
+def test_rapid_close_to_the_stock_is_a_near_miss(tmp_path):
+    # the approach stops 0.4 mm above the end face: the cutter's round edge at Z15 - 12.5 = 2.5
+    # would clear it by 2.5 mm; at Z12.9 it passes 0.4 mm over the face at z = 0
+    prog, line_of = variant(
+        tmp_path, "N110 G0 X40 Y0 Z15\n", "N110 G0 X40 Y0 Z15\nN115 G0 X12 Z12.9\nN116 G0 X40\n"
+    )
+    report = verify(prog, VerifyOptions(images=False))
+    near = [f for f in report.findings if f.kind == "near_miss"]
+    # in, out, and in again (the original approach N120 now runs at Z12.9 too)
+    assert [(f.line, f.severity) for f in near] == [(line_of(n), "warning") for n in ("N115", "N116", "N120")]
+    assert near[0].data["distance_mm"] == pytest.approx(0.4, abs=0.02)
+    assert report.errors == 0
+    # with a smaller clearance it is not reported
+    report = verify(prog, VerifyOptions(images=False, clearance=0.3))
+    assert [f for f in report.findings if f.kind == "near_miss"] == []

@@ -20,7 +20,7 @@ Solid = m3d.Manifold
 
 __all__ = [
     "Solid", "StockError", "box", "bounds", "check", "cylinder", "empty", "from_mesh", "hull",
-    "hull_mesh", "intersect", "is_empty", "num_triangles", "slice_polygons", "subtract",
+    "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles", "slice_polygons", "subtract",
     "to_mesh", "transform", "union", "volume",
 ]
 
@@ -126,6 +126,14 @@ def union(solids: Sequence[Solid]) -> Solid:
 
 def intersect(a: Solid, b: Solid) -> Solid:
     return a ^ b
+
+
+def min_gap(a: Solid, b: Solid, search: float) -> float:
+    """Smallest distance between two solids, mm, looked for up to ``search`` mm (``search`` when
+    they are farther apart; 0 when they touch or overlap)."""
+    if a.is_empty() or b.is_empty():
+        return float(search)
+    return float(a.min_gap(b, float(search)))
 
 
 def check(solid: Solid, what: str = "stock") -> None:

@@ -77,12 +77,14 @@ def sample_rows(start: np.ndarray, end: np.ndarray, rotary: np.ndarray, fk,
 
 
 def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_angle,
-             step: float = tol.sweep_step, checks: bool = False) -> SimResult:
+             step: float = tol.sweep_step, checks: bool = False,
+             clearance: float = tol.near_miss) -> SimResult:
     """Cut ``stock`` with every row of ``table`` (a :class:`vmach.motion.table.MoveTable`).
 
     model : kinematics (``axes``, ``home``, ``fk``); library : tool library (``lookup``).
-    checks : also report ``rapid_into_stock`` and ``holder_collision`` (see
-        :mod:`vmach.stock.events`): moves that may trigger them are cut one by one and measured.
+    checks : also report ``rapid_into_stock``, ``holder_collision`` and ``near_miss`` (a rapid
+        passing closer than ``clearance`` mm to the stock) (see :mod:`vmach.stock.events`):
+        moves that may trigger them are cut one by one and measured.
     """
     t0 = time.perf_counter()
     res = SimResult()
@@ -117,7 +119,7 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
         pose = model.fk(q)
         res.kinematics_seconds += time.perf_counter() - tk
         if checks:
-            _cut_checked(stock, found, table, a, b, k, pose, res)
+            _cut_checked(stock, found, table, a, b, k, pose, res, clearance)
         else:
             stock.cut(found, pose.tip, pose.axis)
         res.moves += b - a
@@ -138,7 +140,8 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
 CHUNK = 64  # moves screened together against the stock before them
 
 
-def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose, res: SimResult) -> None:
+def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose, res: SimResult,
+                 clearance: float = tol.near_miss) -> None:
     """Cut rows a..b-1 (samples: row j spans pose[first_j .. first_j + k_j]) and report rapids
     into material and shank/holder contact (:mod:`vmach.stock.events`).
 
@@ -162,22 +165,38 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
         rows = range(c0, min(c0 + CHUNK, b - a))
         here = stock.bounds
         probes: dict = {}
+        near: dict = {}                  # rapids within the clearance of the stock's box
         for j in rows:
             s, e = span[j]
             if rapid[j]:
                 box = np.stack([cut_boxes[s:e, 0].min(axis=0), cut_boxes[s:e, 1].max(axis=0)])
                 if overlaps(box[None], here)[0]:
                     probes[("rapid", j)] = stock.cutters(tool, tips[s:e], ax[s:e])
+                elif clearance > 0 and overlaps((box + [[-clearance], [clearance]])[None], here)[0]:
+                    near[j] = stock.cutters(tool, tips[s:e], ax[s:e])
             if part_hit[s:e].any():
                 for p in parts:
                     q = part_solids(p, tips[s:e], ax[s:e])
                     probes[(p.name, j)] = (q, [engine.bounds(x) for x in q])
+        # a rapid whose cutter meets the blank may meet the stock; else, only one that comes
+        # within the clearance of the stock as it is before the chunk (a superset of the stock
+        # during the chunk) can be a near miss
+        for j, rc in list(probes.items()):
+            if j[0] == "rapid" and not _meets(stock.initial, rc[0]):
+                near[j[1]] = rc
         probes = {key: v for key, v in probes.items() if _meets(stock.initial, v[0])}
+        if near:
+            now = stock.solid
+            near = {j: rc for j, rc in near.items()
+                    if engine.min_gap(now, engine.union(rc[0]), clearance) < clearance}
+        for j, rc in near.items():
+            probes.setdefault(("rapid", j), rc)
         s, e = span[rows[0]][0], span[rows[-1]][1]
         if not probes:
             stock.cut(tool, tips[s:e], ax[s:e])
             continue
         boxes = np.array([bx for _, bxs in probes.values() for bx in bxs])
+        boxes = boxes + np.array([[-clearance] * 3, [clearance] * 3])
         lo = np.maximum(boxes[:, 0].min(axis=0), here[0]) - tol.trim_margin
         hi = np.minimum(boxes[:, 1].max(axis=0), here[1]) + tol.trim_margin
         before = stock.local(lo, hi) if np.all(lo <= hi) else engine.empty()
@@ -190,7 +209,8 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
             s_j, e_j = span[j]
             local = _cut_one(stock, local, done, tool, table, a + j, tips[s_j:e_j], ax[s_j:e_j],
                              probes.get(("rapid", j)),
-                             [(p, probes[(p.name, j)][0]) for p in parts if (p.name, j) in probes], res)
+                             [(p, probes[(p.name, j)][0]) for p in parts if (p.name, j) in probes], res,
+                             clearance)
         stock.cut(tool, tips[s:e], ax[s:e])
 
 
@@ -200,7 +220,7 @@ def _meets(solid, probe: list) -> bool:
 
 
 def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, rapid, parts: list,
-             res: SimResult):
+             res: SimResult, clearance: float = tol.near_miss):
     """Cut one move from ``local`` (the stock inside a box that holds every probe); measure on
     it what a rapid removes and what the parts touch after the move's own cut. Returns the
     local stock after the move."""
@@ -214,6 +234,14 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
                 f"rapid move removes {removed:.3f} mm³ of material around "
                 f"({c[0]:.2f}, {c[1]:.2f}, {c[2]:.2f}) mm (work frame)",
                 table.source(row), row, {"volume_mm3": round(removed, 4), "at_mm": c}))
+        elif clearance > 0 and cutters:
+            gap = engine.min_gap(local, engine.union(cutters), clearance)
+            if gap < clearance:
+                res.findings.append(Finding(
+                    "near_miss", "warning",
+                    f"rapid move passes {gap:.3f} mm from the stock (clearance {clearance:g} mm)",
+                    table.source(row), row, {"distance_mm": round(gap, 4), "clearance_mm": clearance,
+                                             "obstacle": "stock"}))
     done += cutters
     if cutters:
         local = engine.subtract(local, cutters)   # lazy: evaluated by the next measurement
