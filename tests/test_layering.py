@@ -8,6 +8,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 INTERPRETER_MAY_IMPORT = {
+    "vmach.files",
     "vmach.canon",
     "vmach.source",
     "vmach.errors",

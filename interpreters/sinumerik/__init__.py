@@ -39,11 +39,7 @@ def _names(program: b.Program, directory: Path, control: ControlSpec) -> list[Fi
     except OSError:
         files = []
     stems = sorted(
-        {
-            os.path.splitext(f)[0].upper()
-            for f in files
-            if os.path.splitext(f)[1].upper() in (".SPF", ".MPF")
-        }
+        {os.path.splitext(f)[0].upper() for f in files if os.path.splitext(f)[1].upper() in (".SPF", ".MPF")}
     )
     for blk in program.blocks:
         for item in blk.items:
@@ -68,7 +64,7 @@ def _names(program: b.Program, directory: Path, control: ControlSpec) -> list[Fi
 
 
 def run(
-    path: str | Path, control: ControlSpec = DEFAULT_CONTROL, options: RunOptions = RunOptions()
+    path: str | Path, control: ControlSpec = DEFAULT_CONTROL, options: RunOptions | None = None
 ) -> RunResult:
     """Interpret the program; the result holds the canonical commands and what went wrong."""
-    return Interpreter(path, control, options).run()
+    return Interpreter(path, control, options or RunOptions()).run()

@@ -225,7 +225,9 @@ def _nc(it: Interpreter, program: b.Program, blk: b.Block, src: SourceRef) -> Ca
     if not simple or cond is not None:
         return general
     axis_fs = [(x, compile_expr(x.expr, env)) for x in items if isinstance(x, b.Word) and x.kind == "axis"]
-    feed_f = next((compile_expr(x.expr, env) for x in items if isinstance(x, b.Word) and x.kind == "feed"), None)
+    feed_f = next(
+        (compile_expr(x.expr, env) for x in items if isinstance(x, b.Word) and x.kind == "feed"), None
+    )
     feed_col = next((x.col for x in items if isinstance(x, b.Word) and x.kind == "feed"), 1)
     code = next((x.code.name for x in items if isinstance(x, b.GCode)), None)
 
@@ -262,7 +264,8 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt):
 
     lists = [name for name, kinds in _LISTS.items() if any(_item_kind(x) in kinds for x in items)]
     need_gcodes, need_axes, need_speeds, need_ms, need_cycles, need_interp, need_frame = (
-        n in lists for n in ("gcodes", "axes", "speeds", "ms", "cycles", "interp", "frame_values"))
+        n in lists for n in ("gcodes", "axes", "speeds", "ms", "cycles", "interp", "frame_values")
+    )
 
     def nc():
         v = Values()
@@ -289,15 +292,11 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt):
         call = v.call
         if call is not None:
             if end is not None:
-                raise ProgramError(
-                    "unsupported", "a subprogram call and a program end in one block", src
-                )
+                raise ProgramError("unsupported", "a subprogram call and a program end in one block", src)
             name, args, col = call
             repeat = v.repeat if v.repeat is not None else 1
             if repeat < 1:
-                raise ProgramError(
-                    "invalid_value", f"P{repeat}: the repeat count must be at least 1", src
-                )
+                raise ProgramError("invalid_value", f"P{repeat}: the repeat count must be at least 1", src)
             ret = nxt
             if target is not None and (cond is None or cond()):
                 ret = target()

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from interpreters.sinumerik.blocks import FrameCmd, Word
+from interpreters.sinumerik.blocks import Word
 from interpreters.sinumerik.expr import EvalError
 from interpreters.sinumerik.frames import Frames, modulo_target, rot_axis, rpy
 from vmach import canon
@@ -40,8 +40,15 @@ FEED_MODES = {
 }
 INCH = 25.4
 # G group 10 → canonical path mode (G641...G645 round corners: continuous path too)
-PATH_MODES = {"G60": "exact", "G64": "continuous", "G641": "continuous", "G642": "continuous",
-              "G643": "continuous", "G644": "continuous", "G645": "continuous"}
+PATH_MODES = {
+    "G60": "exact",
+    "G64": "continuous",
+    "G641": "continuous",
+    "G642": "continuous",
+    "G643": "continuous",
+    "G644": "continuous",
+    "G645": "continuous",
+}
 
 
 class Values:
@@ -51,8 +58,25 @@ class Values:
     (see ``compile._nc``), so a plain motion block allocates only what it uses.
     """
 
-    __slots__ = ("gcodes", "axes", "interp", "feed", "speeds", "ms", "tool", "edge", "frame",
-                 "frame_values", "rpl", "setms", "msg", "cycles", "repeat", "call", "end")
+    __slots__ = (
+        "gcodes",
+        "axes",
+        "interp",
+        "feed",
+        "speeds",
+        "ms",
+        "tool",
+        "edge",
+        "frame",
+        "frame_values",
+        "rpl",
+        "setms",
+        "msg",
+        "cycles",
+        "repeat",
+        "call",
+        "end",
+    )
 
     def __init__(self) -> None:
         self.gcodes = self.axes = self.speeds = self.ms = self.cycles = ()  # type: ignore[assignment]
@@ -130,9 +154,7 @@ class Machine:
 
     def emit_frame(self, src: SourceRef) -> None:
         self.out.append(
-            canon.SetFrame(
-                src, origin=self.frames.origin(self.names), rotation=self.frames.rotation_flat()
-            )
+            canon.SetFrame(src, origin=self.frames.origin(self.names), rotation=self.frames.rotation_flat())
         )
 
     # ------------------------------------------------------------------------------------
@@ -230,7 +252,9 @@ class Machine:
                 s = self.master
             elif m in (7, 8):
                 self.coolant.add("mist" if m == 7 else "flood")
-                out.append(canon.Coolant(src, mode="+".join(c for c in ("mist", "flood") if c in self.coolant)))
+                out.append(
+                    canon.Coolant(src, mode="+".join(c for c in ("mist", "flood") if c in self.coolant))
+                )
                 continue
             elif m == 9:
                 self.coolant.clear()
@@ -289,10 +313,7 @@ class Machine:
         vals = v.frame_values
         scale = INCH if self.inch else 1.0
         if fc.name in ("TRANS", "ATRANS"):
-            d = {
-                k: (val * scale if self.specs[k].kind == "linear" else val)
-                for k, val in vals.items()
-            }
+            d = {k: (val * scale if self.specs[k].kind == "linear" else val) for k, val in vals.items()}
             (self.frames.trans_abs if fc.name == "TRANS" else self.frames.trans_add)(d)
         else:
             if v.rpl is not None:
@@ -305,9 +326,7 @@ class Machine:
                 g = self.geometry
                 for k in vals:
                     if k not in g:
-                        raise ProgramError(
-                            "syntax", f"{fc.name}: {k} is not a geometry axis", src.at(fc.col)
-                        )
+                        raise ProgramError("syntax", f"{fc.name}: {k} is not a geometry axis", src.at(fc.col))
                 m = rpy(vals.get(g[0], 0.0), vals.get(g[1], 0.0), vals.get(g[2], 0.0))
             if fc.name == "ROT":
                 self.frames.rot_abs(m)
@@ -485,8 +504,7 @@ class Machine:
         if abs(r1 - r0) > allowed:
             raise ProgramError(
                 "arc_error",
-                f"end point is not on the circle: radius {r0:.4f} at the start, "
-                f"{r1:.4f} at the end",
+                f"end point is not on the circle: radius {r0:.4f} at the start, {r1:.4f} at the end",
                 src,
                 start_radius=r0,
                 end_radius=r1,

@@ -21,9 +21,7 @@ IDENTITY: Matrix = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 
 
 def matmul(a: Matrix, b: Matrix) -> Matrix:
-    return tuple(
-        tuple(sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)) for i in range(3)
-    )  # type: ignore[return-value]
+    return tuple(tuple(sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)) for i in range(3))  # type: ignore[return-value]
 
 
 def apply(m: Matrix, v: tuple[float, float, float]) -> tuple[float, float, float]:
@@ -70,8 +68,9 @@ class Frames:
     # -- state ---------------------------------------------------------------------------
     def refresh(self) -> None:
         """Recompute the per-axis translation cache after any change."""
-        self.off = {a: self.settable.get(a, 0.0) + self.trans.get(a, 0.0)
-                    for a in {*self.settable, *self.trans}}
+        self.off = {
+            a: self.settable.get(a, 0.0) + self.trans.get(a, 0.0) for a in {*self.settable, *self.trans}
+        }
         self.rotated = self.rot != IDENTITY
 
     def set_settable(self, offsets: dict[str, float]) -> None:

@@ -17,11 +17,12 @@ from pathlib import Path
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.execute import Machine, Values
 from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
-from interpreters.sinumerik.parser import decode, parse_program
+from interpreters.sinumerik.parser import parse_program
 from interpreters.sinumerik.structure import analyse, find_target
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
-from vmach.errors import InputError, ProgramError
+from vmach.errors import ProgramError
+from vmach.files import decode_text, read_bytes
 from vmach.findings import Finding, warning
 from vmach.source import SourceRef
 
@@ -52,13 +53,7 @@ class Level:
 
 
 def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise InputError(
-            f"{display}: cannot read: {exc.strerror or exc}", kind="unreadable"
-        ) from None
-    program = parse_program(decode(data), display, control)
+    program = parse_program(decode_text(read_bytes(path, display)), display, control)
     findings = list(program.findings) + analyse(program)
     return Loaded(program, findings)
 
@@ -139,9 +134,7 @@ class Interpreter:
                 )
             for i, p in enumerate(proc.params):
                 value, target = args[i] if i < len(args) else (None, None)
-                variables[p.name] = _convert(
-                    p.type, value if value is not None else _default(p.type), p.name
-                )
+                variables[p.name] = _convert(p.type, value if value is not None else _default(p.type), p.name)
                 if p.by_ref and target is not None:
                     level.back.append((p.name, target))
             if "SAVE" in proc.attributes:
@@ -189,7 +182,8 @@ class Interpreter:
                         self.blocks = count - 1
                         raise ProgramError(
                             "block_limit",
-                            f"stopped after {limit} blocks (--max-blocks); the program probably loops forever",
+                            f"stopped after {limit} blocks (--max-blocks); "
+                            "the program probably loops forever",
                             self.src(level, blk),
                             limit=limit,
                         )
@@ -211,9 +205,7 @@ class Interpreter:
             last = program.blocks[-1] if program.blocks else None
             src = self.src(level, last) if last else SourceRef(program.path, 1)
             if pc >= n and len(self.stack) == 1:
-                self.findings.append(
-                    warning("missing_program_end", "the program ends without M30/M2", src)
-                )
+                self.findings.append(warning("missing_program_end", "the program ends without M30/M2", src))
                 self.out.append(canon.ProgramEnd(src, code="EOF"))
             if not self.pop(src):
                 return
@@ -223,9 +215,7 @@ class Interpreter:
 
     def call(self, name: str, args: list, src: SourceRef, repeat: int) -> None:
         caller_dir = (
-            Path(self.stack[-1].loaded.program.path).resolve().parent
-            if self.stack
-            else self.directory
+            Path(self.stack[-1].loaded.program.path).resolve().parent if self.stack else self.directory
         )
         path = find_subprogram(caller_dir, name)
         if path is None:
@@ -239,11 +229,7 @@ class Interpreter:
     # -- assignments -------------------------------------------------------------------------
     def assign(self, target: b.Target, value) -> None:
         if target.name is None:
-            i = (
-                target.r
-                if target.r is not None
-                else r_index(compile_expr(target.r_expr, self.env)())
-            )
+            i = target.r if target.r is not None else r_index(compile_expr(target.r_expr, self.env)())
             self.env.r[i] = _real(value, f"R{i}")
             return
         self.setter(target)(value)

@@ -14,11 +14,11 @@ from interpreters.sinumerik.expr import ExprParser, Node, ParseError
 from interpreters.sinumerik.language import (
     ACCEPTED_WORDS,
     CODES,
-    Code,
     PROC_ATTRIBUTES,
     STATEMENTS,
     TYPES,
     UNSUPPORTED_WORDS,
+    Code,
 )
 from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token, split_comment, tokenize
 from vmach.canon import ControlSpec
@@ -128,9 +128,7 @@ class BlockParser:
         t = self.tok
         if t.kind == IDENT and self.is_op(":", 1) and t.text not in STATEMENTS:
             if not _LABEL.match(t.text):
-                self.fail(
-                    "syntax", f"{t.text!r} is not a valid label (two letters or '_' first)", t.col
-                )
+                self.fail("syntax", f"{t.text!r} is not a valid label (two letters or '_' first)", t.col)
             block.label, block.label_col = t.text, t.col
             self.pos += 2
         if self.tok.kind == END:
@@ -510,9 +508,7 @@ class BlockParser:
                 or (self.tok.kind == OP and self.tok.text in "+-" and self.peek().kind == NUM)
             )
         ):
-            letter, value = (
-                (m.group(1), _parse_number(m.group(2))) if m else (name, self.signed_number())
-            )
+            letter, value = (m.group(1), _parse_number(m.group(2))) if m else (name, self.signed_number())
             return self.letter_word(t, letter, value)
         if self.g.is_axis(name):
             self.fail("syntax", f"axis {name} needs a value: {name}=...", t.col)
@@ -569,14 +565,10 @@ class BlockParser:
                 continue
             m = _ADDR_NUM.match(wt.text)
             if m and self.g.is_axis(m.group(1)):
-                words.append(
-                    b.Word(wt.col, m.group(1), "axis", _num_node(_parse_number(m.group(2)), wt.col))
-                )
+                words.append(b.Word(wt.col, m.group(1), "axis", _num_node(_parse_number(m.group(2)), wt.col)))
                 continue
             if len(wt.text) == 1 and self.g.is_axis(wt.text) and self.tok.kind in (NUM, OP):
-                words.append(
-                    b.Word(wt.col, wt.text, "axis", _num_node(self.signed_number(), wt.col))
-                )
+                words.append(b.Word(wt.col, wt.text, "axis", _num_node(self.signed_number(), wt.col)))
                 continue
             self.fail(
                 "syntax",
@@ -600,14 +592,6 @@ def _parse_number(text: str) -> float | int:
 
 def _machine_code(name: str) -> Code:
     return Code(name, -1, "machine", False, "codes")
-
-
-def decode(data: bytes) -> str:
-    """UTF-8 first (with or without BOM), Latin-1 otherwise (it never fails)."""
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        return data.decode("latin-1")
 
 
 def parse_program(text: str, path: str, control: ControlSpec) -> b.Program:

@@ -129,18 +129,14 @@ def _pair(program: Program) -> list[Finding]:
             if not stack or stack[-1].kind != "if":
                 out.append(error("unbalanced_block", "ELSE without IF", src(program, blk)))
             elif stack[-1].partner2 >= 0:
-                out.append(
-                    error("unbalanced_block", "second ELSE for the same IF", src(program, blk))
-                )
+                out.append(error("unbalanced_block", "second ELSE for the same IF", src(program, blk)))
             else:
                 stack[-1].partner2 = blk.index
                 blk.partner = stack[-1].index
         elif k in _CLOSERS:
             want = _CLOSERS[k]
             if not stack or stack[-1].kind != want:
-                open_txt = (
-                    f" (open: {stack[-1].kind.upper()} at line {stack[-1].line})" if stack else ""
-                )
+                open_txt = f" (open: {stack[-1].kind.upper()} at line {stack[-1].line})" if stack else ""
                 out.append(
                     error(
                         "unbalanced_block",

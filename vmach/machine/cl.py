@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from vmach.errors import InputError
+from vmach.files import decode_text, read_bytes
 from vmach.findings import Finding, error, warning
 from vmach.source import SourceRef
 
@@ -153,13 +153,4 @@ def parse_cl(text: str, path: str = "<cl>") -> ClData:
 
 def read_cl(path: str | Path) -> ClData:
     """Read a CL file (UTF-8 or Latin-1 text)."""
-    p = Path(path)
-    try:
-        data = p.read_bytes()
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror or exc}", kind="unreadable") from None
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError:
-        text = data.decode("latin-1")
-    return parse_cl(text, str(path))
+    return parse_cl(decode_text(read_bytes(path)), str(path))

@@ -32,7 +32,8 @@ from pathlib import Path
 from typing import Any
 
 from vmach.canon import AxisSpec, ControlSpec
-from vmach.errors import InputError, ModelError
+from vmach.errors import ModelError
+from vmach.files import read_bytes
 from vmach.findings import Finding, error
 from vmach.machine.formula import FormulaError, formula_axes
 from vmach.machine.tomlpos import KeyLines
@@ -43,11 +44,7 @@ Locate = Callable[[tuple], SourceRef]
 
 def read_text(path: str | Path) -> str:
     """The model file's text; unreadable or non-UTF-8 files become errors (exit 2)."""
-    p = Path(path)
-    try:
-        data = p.read_bytes()
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror or exc}", kind="unreadable") from None
+    data = read_bytes(path)
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError:

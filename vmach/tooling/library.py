@@ -30,9 +30,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from vmach.errors import InputError, ModelError
+from vmach.errors import ModelError
 from vmach.findings import Finding, error
-from vmach.machine.control import read_toml
+from vmach.machine.control import parse_toml, read_text
 from vmach.machine.tomlpos import KeyLines
 from vmach.tooling.model import KINDS, Offset, Tool
 
@@ -89,13 +89,8 @@ class ToolLibrary:
 
 def load_tools(path: str | Path) -> ToolLibrary:
     """Read a tool library file; every problem is reported at once as ModelError."""
-    p = Path(path)
-    data = read_toml(p)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:  # pragma: no cover - read_toml read it a moment ago
-        raise InputError(f"{path}: cannot read: {exc}", kind="unreadable") from None
-    return parse_tools(data, KeyLines.scan(text, str(path)))
+    text = read_text(path)
+    return parse_tools(parse_toml(text, str(path)), KeyLines.scan(text, str(path)))
 
 
 def parse_tools(data: Mapping[str, Any], lines: KeyLines) -> ToolLibrary:
