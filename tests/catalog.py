@@ -44,7 +44,9 @@ def split_reference(directory: Path, reference: Path | None = None) -> Path:
     params = [ln for ln in lines[:proc] if ln.strip()[:1] in ("N", ";")]
     main = directory / "POLY.MPF"
     main.write_text("\n".join([*params, "L_POLY", "M30"]) + "\n", encoding="utf-8")
-    sub = [ln.replace("C_AXIS_OF", "C_AXIS_OFF") if ln.rstrip().endswith("C_AXIS_OF") else ln
-           for ln in lines[proc:]]
+    sub = [
+        ln.replace("C_AXIS_OF", "C_AXIS_OFF") if ln.rstrip().endswith("C_AXIS_OF") else ln
+        for ln in lines[proc:]
+    ]
     (directory / "L_POLY.SPF").write_text("\n".join(sub) + "\n", encoding="utf-8")
     return main

@@ -17,9 +17,15 @@ def write(directory: Path, text: str, name: str = "TEST.MPF", **files: str) -> P
     return p
 
 
-def run(directory: Path, text: str, control: ControlSpec = DEFAULT_CONTROL,
-        options: RunOptions = RunOptions(), name: str = "TEST.MPF", **files: str) -> RunResult:
-    return sinumerik.run(write(directory, text, name, **files), control, options)
+def run(
+    directory: Path,
+    text: str,
+    control: ControlSpec = DEFAULT_CONTROL,
+    options: RunOptions | None = None,
+    name: str = "TEST.MPF",
+    **files: str,
+) -> RunResult:
+    return sinumerik.run(write(directory, text, name, **files), control, options or RunOptions())
 
 
 def ok(directory: Path, text: str, control: ControlSpec = DEFAULT_CONTROL, **files: str) -> RunResult:
@@ -32,8 +38,9 @@ def moves(result: RunResult) -> list:
     return [c for c in result.commands if isinstance(c, MOTIONS)]
 
 
-def check(directory: Path, text: str, control: ControlSpec = DEFAULT_CONTROL, name: str = "TEST.MPF",
-          **files: str) -> list[Finding]:
+def check(
+    directory: Path, text: str, control: ControlSpec = DEFAULT_CONTROL, name: str = "TEST.MPF", **files: str
+) -> list[Finding]:
     return sinumerik.check(write(directory, text, name, **files), control)
 
 

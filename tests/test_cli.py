@@ -35,8 +35,18 @@ def test_check_json(tmp_path, capsys):
     p = prog(tmp_path, "N20 G0 X1\nN10 G0 X2\nM30\n")
     assert main(["check", p, "--format", "json"]) == 0  # warnings only
     data = json.loads(capsys.readouterr().out)
-    assert data == [{"severity": "warning", "kind": "block_number_order", "file": p, "line": 2,
-                     "column": 1, "message": data[0]["message"], "previous": 20, "number": 10}]
+    assert data == [
+        {
+            "severity": "warning",
+            "kind": "block_number_order",
+            "file": p,
+            "line": 2,
+            "column": 1,
+            "message": data[0]["message"],
+            "previous": 20,
+            "number": 10,
+        }
+    ]
 
 
 def test_check_with_machine_by_name(tmp_path, capsys):
@@ -51,8 +61,13 @@ def test_run_text_and_json_lines(tmp_path, capsys):
     p = prog(tmp_path, "G0 X1 Y2\nG1 Z-1 F100\nM30\n")
     assert main(["run", p, "--format", "json"]) == 0
     rows = [json.loads(x) for x in capsys.readouterr().out.splitlines()]
-    assert rows[0] == {"kind": "traverse", "file": p, "line": 1, "axes": {"X": 1.0, "Y": 2.0, "Z": 0.0},
-                       "feed": None}
+    assert rows[0] == {
+        "kind": "traverse",
+        "file": p,
+        "line": 1,
+        "axes": {"X": 1.0, "Y": 2.0, "Z": 0.0},
+        "feed": None,
+    }
     assert rows[1]["kind"] == "feed" and rows[1]["feed"] == 100.0 and rows[1]["axes"]["Z"] == -1.0
     assert rows[-1] == {"kind": "program_end", "file": p, "line": 3, "code": "M30"}
     assert main(["run", p]) == 0
@@ -97,8 +112,9 @@ def test_setup_file_beside_the_program_selects_the_machine(capsys):
 
 def test_console_script_runs_without_traceback(tmp_path):
     p = prog(tmp_path, "G0 X1\nG1 X=SQRT(-1) F1\nM30\n")
-    r = subprocess.run([sys.executable, "-m", "vmach", "run", p], capture_output=True, text=True,
-                       cwd=ROOT, timeout=60)
+    r = subprocess.run(
+        [sys.executable, "-m", "vmach", "run", p], capture_output=True, text=True, cwd=ROOT, timeout=60
+    )
     assert r.returncode == 1
     assert "error[domain_error]" in r.stderr and "Traceback" not in r.stderr
 

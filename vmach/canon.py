@@ -400,9 +400,7 @@ def format_text(cmd: Command, index: int) -> str:
         elif isinstance(val, dict):
             parts.append(f"{key}=" + ",".join(f"{k}:{_num(v)}" for k, v in val.items()))
         elif isinstance(val, list):
-            parts.append(
-                f"{key}=" + ",".join(_num(x) if isinstance(x, float) else str(x) for x in val)
-            )
+            parts.append(f"{key}=" + ",".join(_num(x) if isinstance(x, float) else str(x) for x in val))
         elif isinstance(val, str):
             parts.append(f"{key}={json.dumps(val, ensure_ascii=False)}")
         else:

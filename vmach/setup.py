@@ -53,9 +53,7 @@ def resolve_model(spec: str | Path, base: Path | None = None) -> Path:
         if c.is_file():
             return c
     known = ", ".join(sorted(x.stem for x in MODELS_DIR.glob("*.toml")))
-    raise InputError(
-        f"machine model {spec!s} not found (a path, or one of: {known})", kind="unreadable"
-    )
+    raise InputError(f"machine model {spec!s} not found (a path, or one of: {known})", kind="unreadable")
 
 
 def read_setup(program: str | Path) -> Setup:

@@ -17,7 +17,9 @@ TURN = load_control(TURNMILL)
 
 
 def test_rows_carry_state_and_source(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 T="GLOD D40" D1
 SETMS(2)
 S2=640 M2=3
@@ -26,7 +28,9 @@ G1 Z-10 F620
 G95 F0.1
 G1 X30
 M30
-""", TURN)
+""",
+        TURN,
+    )
     t = build(r.commands, TURN)
     assert t.axes == ("X", "Y", "Z", "C1") and len(t) == 3
     assert list(t.kind) == [TRAVERSE, FEED, FEED]
@@ -66,7 +70,9 @@ def test_arc_chords_stay_within_tolerance(tmp_path, chord):
 
 def test_exact_stop_column_follows_path_mode(tmp_path):
     """G60 marks every block end, G9 only its own block, arcs only their last chord."""
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 G0 X0 Y0 Z0
 G1 X10 F100
 G9 G1 Y10
@@ -78,7 +84,8 @@ G64 G1 X20
 G9 G2 X30 Y0 I5 J0
 G1 X40
 M30
-""")
+""",
+    )
     t = build(r.commands, DEFAULT_CONTROL)
     by_line: dict[int, list[bool]] = {}
     for line, stop in zip(t.line.tolist(), t.exact_stop.tolist(), strict=True):

@@ -12,8 +12,7 @@ TURN = load_control(TURNMILL)
 
 
 def where(findings, severity=None):
-    return [(f.kind, f.line, f.source.column) for f in findings
-            if severity is None or f.severity == severity]
+    return [(f.kind, f.line, f.source.column) for f in findings if severity is None or f.severity == severity]
 
 
 def test_clean_program_has_no_findings(tmp_path):
@@ -60,8 +59,12 @@ def test_gotoc_missing_target_is_only_a_warning(tmp_path):
 
 def test_every_error_in_a_file_is_reported_at_once(tmp_path):
     f = check(tmp_path, "G0 X1 Q5\nG999\nGOTOF NIX\nIF R1\nM30\n")
-    assert kinds(f, "error") == [("unknown_word", 1), ("unknown_gcode", 2), ("undefined_label", 3),
-                                 ("unbalanced_block", 4)]
+    assert kinds(f, "error") == [
+        ("unknown_word", 1),
+        ("unknown_gcode", 2),
+        ("undefined_label", 3),
+        ("unbalanced_block", 4),
+    ]
 
 
 def test_machine_names_come_from_the_model(tmp_path):

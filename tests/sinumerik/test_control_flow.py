@@ -13,7 +13,9 @@ def xs(result):
 
 
 def test_gotof_gotob_with_labels_and_block_numbers(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 N10 R1=0
 N20 LOOPTOP: G1 X=R1 F100
 N30 R1=R1+1
@@ -23,12 +25,15 @@ N60 G1 X=99
 N70 IF R1==3 GOTOF ENDE
 N80 G1 X=98
 N90 ENDE: M30
-""")
+""",
+    )
     assert xs(r) == [0, 1, 2]
 
 
 def test_goto_searches_forward_then_backward_and_gotoc_continues(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 R1=0
 BACK: R1=R1+1
 G1 X=R1 F100
@@ -36,12 +41,15 @@ IF R1<2 GOTO BACK
 GOTOC NOWHERE
 G1 X=10
 M30
-""")
+""",
+    )
     assert xs(r) == [1, 2, 10]
 
 
 def test_block_if_else_nested_in_while(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 R1=0
 WHILE (R1<6)
   IF R1 MOD 2 == 0
@@ -56,12 +64,15 @@ WHILE (R1<6)
   R1=R1+1
 ENDWHILE
 M30
-""")
+""",
+    )
     assert xs(r) == [0, -1, 2, -3, 104, -5]
 
 
 def test_for_repeat_loop_and_case(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 DEF INT I, K
 FOR I=1 TO 3
   G1 X=I F100
@@ -85,37 +96,46 @@ TWO: G1 X=1002
 GOTOF FIN
 OTHER: G1 X=1003
 FIN: M30
-""")
+""",
+    )
     assert xs(r) == [1, 2, 3, 10, 20, 30, -1, -2, 1002]
 
 
 def test_for_loop_that_never_runs_and_loop_variable_after(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 DEF INT I
 FOR I=5 TO 1
   G1 X=I F100
 ENDFOR
 G1 X=I F100
 M30
-""")
+""",
+    )
     assert xs(r) == [5]
 
 
 def test_several_assignments_per_block_act_left_to_right(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 R1=1 R2=R1+1 R1=R2*10
 G1 X=R1 Y=R2 F100
 R[R2+1]=7
 G1 X=R3
 M30
-""")
+""",
+    )
     m = moves(r)
     assert (m[0].axes["X"], m[0].axes["Y"]) == (20, 2)
     assert m[1].axes["X"] == 7
 
 
 def test_def_locals_types_and_arrays(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 DEF INT N=2, M
 DEF REAL A[3]=SET(1.5, 2.5, 3.5)
 DEF BOOL B=TRUE
@@ -125,23 +145,28 @@ G1 X=A[N] Y=M F100
 IF B AND (S=="ab") GOTOF OK
 G1 X=-1
 OK: M30
-""")
+""",
+    )
     m = moves(r)
     assert (m[0].axes["X"], m[0].axes["Y"]) == (3.5, 3)  # INT rounds 2.6 to 3
     assert len(m) == 1
 
 
 def test_subprograms_by_name_with_arguments_l_number_call_and_repeat(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 R10=0
 SHIFT(5, 2)
 L123 P2
 CALL "Plain"
 G1 X=R10 F100
 M30
-""", SHIFT_DOT_SPF="PROC SHIFT(REAL DX, REAL DY)\nG1 X=DX Y=DY F100\nRET\n",
+""",
+        SHIFT_DOT_SPF="PROC SHIFT(REAL DX, REAL DY)\nG1 X=DX Y=DY F100\nRET\n",
         L123_DOT_SPF="R10=R10+1\nM17\n",
-        plain_DOT_spf="PROC PLAIN\nG0 Z=50\nM17\n")
+        plain_DOT_spf="PROC PLAIN\nG0 Z=50\nM17\n",
+    )
     m = moves(r)
     assert (m[0].axes["X"], m[0].axes["Y"]) == (5, 2)
     assert m[1].axes["Z"] == 50
@@ -149,22 +174,30 @@ M30
 
 
 def test_var_parameters_are_passed_back(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 R1=3
 TWICE(R1)
 G1 X=R1 F100
 M30
-""", TWICE_DOT_SPF="PROC TWICE(VAR REAL V)\nV=V*2\nM17\n")
+""",
+        TWICE_DOT_SPF="PROC TWICE(VAR REAL V)\nV=V*2\nM17\n",
+    )
     assert xs(r) == [6]
 
 
 def test_save_restores_modal_state_on_return(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 G90 G1 F100
 SUB1
 X5
 M30
-""", SUB1_DOT_SPF="PROC SUB1 SAVE\nG91 X1\nM17\n")
+""",
+        SUB1_DOT_SPF="PROC SUB1 SAVE\nG91 X1\nM17\n",
+    )
     assert xs(r) == [1, 5]  # G91 ended with the subprogram
 
 
@@ -228,7 +261,9 @@ def test_missing_program_end_is_a_warning(tmp_path):
 
 def test_skip_blocks_and_comments_and_latin1(tmp_path):
     p = tmp_path / "LAT.MPF"
-    p.write_bytes("; Prüfung der Maße\n/N10 G1 X1 F100 ; skip level off: runs\nN20 X2\nM30\n".encode("latin-1"))
+    p.write_bytes(
+        "; Prüfung der Maße\n/N10 G1 X1 F100 ; skip level off: runs\nN20 X2\nM30\n".encode("latin-1")
+    )
     from interpreters import sinumerik
 
     r = sinumerik.run(p)

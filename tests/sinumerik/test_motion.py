@@ -26,7 +26,9 @@ def test_absolute_incremental_and_word_modes(tmp_path):
 
 
 def test_arcs_with_ijk_incremental_absolute_and_cr(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 G17 G0 X10 Y0
 G3 X0 Y10 I-10 J0 F200
 G2 X10 Y0 I=AC(0) J=AC(0)
@@ -35,7 +37,8 @@ G3 X10 Y0 CR=-10
 G18 G0 X0 Y0 Z0
 G2 Z20 X0 K10 I0 F100
 M30
-""")
+""",
+    )
     arcs = [m for m in moves(r) if isinstance(m, ArcFeed)]
     for a in arcs[:4]:
         assert a.center == pytest.approx((0, 0), abs=1e-12)
@@ -45,7 +48,9 @@ M30
 
 
 def test_cr_picks_the_centre_side_by_sign(tmp_path):
-    r = ok(tmp_path, "G0 X0 Y0\nG2 X10 Y0 CR=5 F100\nG0 X0 Y0\nG2 X6 Y0 CR=5\nG0 X0 Y0\nG2 X6 Y0 CR=-5\nM30\n")
+    r = ok(
+        tmp_path, "G0 X0 Y0\nG2 X10 Y0 CR=5 F100\nG0 X0 Y0\nG2 X6 Y0 CR=5\nG0 X0 Y0\nG2 X6 Y0 CR=-5\nM30\n"
+    )
     arcs = [m for m in moves(r) if isinstance(m, ArcFeed)]
     assert arcs[0].center == pytest.approx((5, 0))
     # clockwise from (0,0) to (6,0), minor arc: centre below the chord; major arc: above
@@ -72,7 +77,9 @@ def test_settable_offsets_from_the_control_and_g53(tmp_path):
 
 
 def test_trans_atrans_rot_arot(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 TRANS X10 Y5
 G0 X1 Y0
 ATRANS X1
@@ -84,7 +91,8 @@ X1 Y0
 TRANS
 X1 Y0
 M30
-""")
+""",
+    )
     pts = [(round(m.axes["X"], 9), round(m.axes["Y"], 9)) for m in moves(r)]
     assert pts == [(11, 5), (11, 5), (0, 1), (-1, 0), (1, 0)]
 
@@ -97,7 +105,9 @@ def test_rotated_frame_keeps_unprogrammed_axes_in_program_coordinates(tmp_path):
 
 
 def test_modulo_axis_is_unwrapped_with_direction(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 G0 C1=350
 C1=ACP(10)
 C1=ACN(350)
@@ -107,7 +117,9 @@ C1=10
 C1=IC(-30)
 C1=AC(200)
 M30
-""", TURN)
+""",
+        TURN,
+    )
     assert [m.axes["C1"] for m in moves(r)] == pytest.approx([350, 370, 350, 370, 550, 370, 340, 200])
 
 
@@ -119,15 +131,18 @@ def test_modulo_dc_mode_from_the_model(tmp_path):
 
 
 def test_non_modulo_rotary_goes_directly(tmp_path):
-    ctl = ControlSpec(axes=(AxisSpec("X"), AxisSpec("Y"), AxisSpec("Z"), AxisSpec("B", "rotary")),
-                      strict_axes=True)
+    ctl = ControlSpec(
+        axes=(AxisSpec("X"), AxisSpec("Y"), AxisSpec("Z"), AxisSpec("B", "rotary")), strict_axes=True
+    )
     r = ok(tmp_path, "G0 B350\nB10\nM30\n", ctl)
     assert [m.axes["B"] for m in moves(r)] == [350, 10]
     assert error_of(run(tmp_path, "G0 B=ACP(10)\nM30\n", ctl)).kind == "invalid_value"
 
 
 def test_spindles_tools_coolant_dwell_feed_modes(tmp_path):
-    r = ok(tmp_path, """
+    r = ok(
+        tmp_path,
+        """
 T="GLOD D40" D1
 SETMS(2)
 G94 S640 M3
@@ -140,7 +155,9 @@ T5
 D0
 M9
 M30
-""", TURN)
+""",
+        TURN,
+    )
     ev = [(c.kind, c.fields()) for c in r.commands if c.kind not in ("traverse", "feed")]
     assert ("tool_change", {"tool": "GLOD D40", "number": None, "offset": 1}) in ev
     assert ("master_spindle", {"spindle": 2}) in ev

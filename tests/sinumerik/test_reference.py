@@ -35,14 +35,16 @@ def test_check_reports_every_static_defect_of_the_listing(reference):
     lines = reference.read_text(encoding="utf-8").splitlines()
     findings = sinumerik.check(reference, TURN)
     errors = sorted((f.kind, f.line) for f in findings if f.severity == "error")
-    expected = sorted([
-        ("syntax", _line_of(lines, "GLODALU OBAVEZNO")),  # the stray text line without ';'
-        ("proc_not_first", _line_of(lines, "PROC L_POLY")),  # parameters and PROC in one file
-        # in the second edge round, a forward jump to the first round's label, which lies behind
-        ("jump_direction", _line_of(lines, "GOTOF ENDDDZ", _line_of(lines, "DDZZ:"))),
-        ("undefined_label", _line_of(lines, "GOTOF ENDEEEZZ")),  # label that does not exist
-        ("unknown_cycle", next(i + 1 for i, ln in enumerate(lines) if ln.rstrip().endswith("C_AXIS_OF"))),
-    ])
+    expected = sorted(
+        [
+            ("syntax", _line_of(lines, "GLODALU OBAVEZNO")),  # the stray text line without ';'
+            ("proc_not_first", _line_of(lines, "PROC L_POLY")),  # parameters and PROC in one file
+            # in the second edge round, a forward jump to the first round's label, which lies behind
+            ("jump_direction", _line_of(lines, "GOTOF ENDDDZ", _line_of(lines, "DDZZ:"))),
+            ("undefined_label", _line_of(lines, "GOTOF ENDEEEZZ")),  # label that does not exist
+            ("unknown_cycle", next(i + 1 for i, ln in enumerate(lines) if ln.rstrip().endswith("C_AXIS_OF"))),
+        ]
+    )
     assert errors == expected  # and nothing else at error level
     warnings = [(f.kind, f.line) for f in findings if f.severity == "warning"]
     assert ("block_number_order", _line_of(lines, "N1610")) in warnings
@@ -59,6 +61,7 @@ def test_published_listing_stops_at_its_stray_line_as_the_control_would(referenc
 
 
 # ---- the listing split as intended ---------------------------------------------------------
+
 
 def _walk(a: float, step: float) -> tuple[list[float], float]:
     """Angles a sector chain visits from ``a`` until it reaches 360, and the wrapped angle."""
@@ -94,14 +97,21 @@ def test_split_listing_runs_to_completion(split_run):
     assert result.completed, [f.render() for f in result.findings]
     assert [f for f in result.findings if f.severity == "error"] == []
     assert [c.tool for c in result.commands if c.kind == "tool_change"] == [
-        "GLOD D40", "GLOD D40", "GLOD D16_15", "GLOD D25"]
+        "GLOD D40",
+        "GLOD D40",
+        "GLOD D16_15",
+        "GLOD D25",
+    ]
 
 
 def test_finishing_moves_follow_the_polygon_formula_and_turn_forward(split_run):
     result, lines = split_run
     fine_start = _line_of(lines, "GLODPOLY:")
-    fine = [m for m in _segments(result)[3] if m.kind == "feed" and m.source.line > fine_start
-            and "C1=ACP(R85)" in m.source.text]
+    fine = [
+        m
+        for m in _segments(result)[3]
+        if m.kind == "feed" and m.source.line > fine_start and "C1=ACP(R85)" in m.source.text
+    ]
     assert fine, "no finishing moves found"
     c1 = [m.axes["C1"] for m in fine]
     for m in fine:
@@ -119,16 +129,28 @@ def test_move_counts_per_operation_match_the_loop_structure(split_run):
     for _ in range(4):
         seen, a = _walk(a, STEP_ROUGH)
         plunges += len(seen)
-    per_plunge = [m for m in rough if "R71" in m.source.text or m.source.text.strip().endswith(
-        ("C1=ACP(R85)", "Z=-R63+R67+5", "Z=-R62+R67", "Z=30"))]
-    body = [m for m in per_plunge if _line_of(lines, "WHILE(R71>0)") < m.source.line < _line_of(lines, "ENDWHILE")]
+    per_plunge = [
+        m
+        for m in rough
+        if "R71" in m.source.text
+        or m.source.text.strip().endswith(("C1=ACP(R85)", "Z=-R63+R67+5", "Z=-R62+R67", "Z=30"))
+    ]
+    body = [
+        m for m in per_plunge if _line_of(lines, "WHILE(R71>0)") < m.source.line < _line_of(lines, "ENDWHILE")
+    ]
     assert len(body) == 7 * plunges
     # facing: two passes, two moves per point, plus the Z moves around each pass
     a, points = 0.0, 0
     for _ in range(2):
         seen, a = _walk(a, STEP_FINE)
         points += len(seen)
-    loop = [m for m in face if _line_of(lines, "WHILE(R68>0)") < m.source.line < _line_of(lines, "ENDWHILE", _line_of(lines, "WHILE(R68>0)"))]
+    loop = [
+        m
+        for m in face
+        if _line_of(lines, "WHILE(R68>0)")
+        < m.source.line
+        < _line_of(lines, "ENDWHILE", _line_of(lines, "WHILE(R68>0)"))
+    ]
     assert len(loop) == 2 * points + 2 * 2
     # chamfer: one revolution from 0
     seen, _ = _walk(0.0, STEP_FINE)
@@ -158,7 +180,12 @@ def test_roughing_allowance_is_missing_in_two_sectors_as_published(split_run):
     """The listing forgets '+0.15' on the plunge in the 240-360 degree sectors: the trace shows it."""
     result, _ = split_run
     rough = _segments(result)[0]
-    plunges = [m for m in rough if m.kind == "feed" and m.source.text.strip().startswith(("N1070", "N1230", "N430", "N590", "N750", "N910"))]
+    plunges = [
+        m
+        for m in rough
+        if m.kind == "feed"
+        and m.source.text.strip().startswith(("N1070", "N1230", "N430", "N590", "N750", "N910"))
+    ]
     assert plunges
     for m in plunges:
         c = m.axes["C1"] % 360

@@ -95,9 +95,7 @@ def emit(out: dict, args: argparse.Namespace, findings) -> int:
             if key == "findings":
                 continue
             if isinstance(val, dict):
-                val = " ".join(
-                    f"{k}={v:.6f}" if isinstance(v, float) else f"{k}={v}" for k, v in val.items()
-                )
+                val = " ".join(f"{k}={v:.6f}" if isinstance(v, float) else f"{k}={v}" for k, v in val.items())
             elif isinstance(val, list):
                 val = " ".join(f"{v:.6f}" for v in val)
             sys.stdout.write(f"{key:<10s} {val}\n")
@@ -116,9 +114,7 @@ def run(args: argparse.Namespace) -> int:
     q = model.q({k: v for k, v in given.items() if k in model.axes})
     q, ok = model.axes_from_drives(q, {k: v for k, v in given.items() if k in model.drives})
     if not ok.all():
-        raise InputError(
-            "no assembly of the parallel mechanism has these drive values", kind="unreachable"
-        )
+        raise InputError("no assembly of the parallel mechanism has these drive values", kind="unreachable")
     pose = model.fk(q)
     out: dict = {
         "model": model.name,

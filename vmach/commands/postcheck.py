@@ -35,15 +35,33 @@ HELP = "check post-processed G-code against the CAM cutter-location (APT CL) dat
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("program", metavar="PROG", help="the post-processor's NC program")
     parser.add_argument("--cl", required=True, metavar="FILE", help="APT CL data (GOTO/…)")
-    parser.add_argument("--machine", required=True, dest="model", metavar="MODEL",
-                        help="machine model (path or name in models/)")
-    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                        help="set a model parameter, e.g. rotation_centre=0,0,-30")
+    parser.add_argument(
+        "--machine",
+        required=True,
+        dest="model",
+        metavar="MODEL",
+        help="machine model (path or name in models/)",
+    )
+    parser.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="set a model parameter, e.g. rotation_centre=0,0,-30",
+    )
     parser.add_argument("--dialect", help="override the dialect chosen by the file extension")
-    parser.add_argument("--tol-position", default=str(TOL_POSITION), metavar="MM",
-                        help=f"tool-tip tolerance, mm (default {TOL_POSITION})")
-    parser.add_argument("--tol-angle", default=str(TOL_ANGLE), metavar="DEG",
-                        help=f"tool-axis tolerance, degrees (default {TOL_ANGLE})")
+    parser.add_argument(
+        "--tol-position",
+        default=str(TOL_POSITION),
+        metavar="MM",
+        help=f"tool-tip tolerance, mm (default {TOL_POSITION})",
+    )
+    parser.add_argument(
+        "--tol-angle",
+        default=str(TOL_ANGLE),
+        metavar="DEG",
+        help=f"tool-axis tolerance, degrees (default {TOL_ANGLE})",
+    )
     parser.add_argument("--all", action="store_true", help="text: list every pose")
     parser.add_argument("--format", choices=("text", "json"), default="text")
 
@@ -58,14 +76,15 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"{args.program}: no such file", kind="unreadable")
     model = open_model(args)
     cl = read_cl(args.cl)
-    result = interpreters.dialect_for(program, args.dialect).run(
-        str(program), model.control, RunOptions())
+    result = interpreters.dialect_for(program, args.dialect).run(str(program), model.control, RunOptions())
     moves = moves_from_commands(result.commands, model.axes, model.home)
     check = postcheck(model, cl, moves, tol_position=tol_p, tol_angle=tol_a, window=WINDOW)
     findings = list(result.findings) + list(check.findings)
     paired = check.move >= 0
     summary = {
-        "poses": len(cl), "moves": len(moves.q), "paired": int(paired.sum()),
+        "poses": len(cl),
+        "moves": len(moves.q),
+        "paired": int(paired.sum()),
         "unpaired_moves": len(check.unpaired),
         "beyond_tolerance": sum(f.kind == "post_deviation" for f in findings),
         "max_position_mm": float(np.nanmax(check.position)) if paired.any() else None,
@@ -73,21 +92,30 @@ def run(args: argparse.Namespace) -> int:
         "completed": result.completed,
     }
     if args.format == "json":
-        out = {"program": str(program), "cl": str(args.cl), "machine": model.name,
-               "tolerance": {"position_mm": tol_p, "angle_deg": tol_a}, "summary": summary,
-               "poses": [check.pose_json(i) for i in range(len(cl))],
-               "unpaired_moves": [check.moves.sources[j].line for j in check.unpaired],
-               "findings": [f.to_json() for f in findings]}
+        out = {
+            "program": str(program),
+            "cl": str(args.cl),
+            "machine": model.name,
+            "tolerance": {"position_mm": tol_p, "angle_deg": tol_a},
+            "summary": summary,
+            "poses": [check.pose_json(i) for i in range(len(cl))],
+            "unpaired_moves": [check.moves.sources[j].line for j in check.unpaired],
+            "findings": [f.to_json() for f in findings],
+        }
         sys.stdout.write(json.dumps(out) + "\n")
     else:
         w = sys.stdout.write
         w(f"postcheck {program} against {args.cl} on {model.name}\n")
-        w(f"  {summary['poses']} CL poses, {summary['moves']} moves, {summary['paired']} paired, "
-          f"{summary['unpaired_moves']} moves without a pose\n")
+        w(
+            f"  {summary['poses']} CL poses, {summary['moves']} moves, {summary['paired']} paired, "
+            f"{summary['unpaired_moves']} moves without a pose\n"
+        )
         if paired.any():
-            w(f"  largest deviation {summary['max_position_mm']:.6f} mm, "
-              f"{summary['max_angle_deg']:.6f}°; beyond tolerance ({tol_p:g} mm, {tol_a:g}°): "
-              f"{summary['beyond_tolerance']}\n")
+            w(
+                f"  largest deviation {summary['max_position_mm']:.6f} mm, "
+                f"{summary['max_angle_deg']:.6f}°; beyond tolerance ({tol_p:g} mm, {tol_a:g}°): "
+                f"{summary['beyond_tolerance']}\n"
+            )
         if args.all:
             w("  cl_line  nc_line   position_mm   angle_deg\n")
             for i in range(len(cl)):
@@ -95,8 +123,10 @@ def run(args: argparse.Namespace) -> int:
                 if p["nc_line"] is None:
                     w(f"  {p['cl_line']:7d}        -             -           -\n")
                 else:
-                    w(f"  {p['cl_line']:7d}  {p['nc_line']:7d}  {p['position_mm']:12.6f}"
-                      f"  {p['angle_deg']:10.6f}\n")
+                    w(
+                        f"  {p['cl_line']:7d}  {p['nc_line']:7d}  {p['position_mm']:12.6f}"
+                        f"  {p['angle_deg']:10.6f}\n"
+                    )
         for f in findings:
             sys.stderr.write(f.render() + "\n")
     bad = any(f.severity == "error" for f in findings) or not result.completed

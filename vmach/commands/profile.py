@@ -26,8 +26,13 @@ def run(args: argparse.Namespace) -> int:
     spec = args.kind if args.size is None else f"{args.kind}:{args.size}"
     prof = parse_profile(spec)
     data = {
-        "type": prof.kind, "name": prof.name, "d1": prof.d1, "e1": prof.e,
-        "d2": round(prof.d2, 6), "d3": round(prof.d3, 6), "area_mm2": round(prof.area, 4),
+        "type": prof.kind,
+        "name": prof.name,
+        "d1": prof.d1,
+        "e1": prof.e,
+        "d2": round(prof.d2, 6),
+        "d3": round(prof.d3, 6),
+        "area_mm2": round(prof.area, 4),
     }
     if prof.kind == "P4C":  # designation d1 x d2 / e: d2 is the width across the flats
         data.update(d2=prof.d2_flats, d_m=prof.d)
@@ -40,8 +45,14 @@ def run(args: argparse.Namespace) -> int:
     if args.format == "json":
         print(json.dumps(data, indent=2))
     else:
-        label = {"d1": "d1 (nominal)", "e1": "e1 (eccentricity)", "d2": "d2 (circumscribed)",
-                 "d3": "d3 (inscribed)", "area_mm2": "area", "d_m": "d_m (mean)"}
+        label = {
+            "d1": "d1 (nominal)",
+            "e1": "e1 (eccentricity)",
+            "d2": "d2 (circumscribed)",
+            "d3": "d3 (inscribed)",
+            "area_mm2": "area",
+            "d_m": "d_m (mean)",
+        }
         if prof.kind == "P4C":
             label.update({"d1": "d1 (outer circle)", "d2": "d2 (across flats)", "e1": "e"})
         print(prof.name)

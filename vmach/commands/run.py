@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from pathlib import Path
 
 import interpreters
-import json
-
 from vmach.canon import MOTIONS, RunOptions, RunResult, format_json, format_text
 from vmach.errors import InputError
 from vmach.output import atomic_writer
@@ -27,9 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         default="text",
         help="text (default), json (JSON Lines), or a dialect's own trace (rs274)",
     )
-    p.add_argument(
-        "-o", "--output", help="write the trace to this file (only when the run succeeds)"
-    )
+    p.add_argument("-o", "--output", help="write the trace to this file (only when the run succeeds)")
     p.add_argument(
         "--max-blocks",
         type=int,
@@ -112,6 +109,7 @@ def _drive_values(model_path: Path | None, result: RunResult) -> dict[int, dict]
     out = {}
     for row, i in enumerate(idx):
         out[i] = {d: (float(v[row]) if ok[row] else None) for d, v in values.items()}
-    result.findings.extend(unreachable_findings(
-        ok, sources=[result.commands[i].source for i in idx], move_index=idx))
+    result.findings.extend(
+        unreachable_findings(ok, sources=[result.commands[i].source for i in idx], move_index=idx)
+    )
     return out

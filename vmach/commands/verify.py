@@ -34,8 +34,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", help="directory for report.json and the pictures (default: out/<program>)")
     p.add_argument("--no-images", action="store_true", help="skip the PNG pictures")
     p.add_argument("--format", choices=("text", "json"), default="text")
-    p.add_argument("--clearance", type=float, default=tol.near_miss,
-                   help=f"near-miss distance for rapids, mm (default {tol.near_miss})")
+    p.add_argument(
+        "--clearance",
+        type=float,
+        default=tol.near_miss,
+        help=f"near-miss distance for rapids, mm (default {tol.near_miss})",
+    )
     p.add_argument("--max-blocks", type=int, default=tol.max_blocks)
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 

@@ -75,12 +75,16 @@ class MoveTable:
     def source(self, row: int) -> canon.SourceRef:
         return self.commands[int(self.command[row])].source
 
-    def columns(self, axes: Sequence[str], defaults: Sequence[float], values: np.ndarray | None = None) -> np.ndarray:
+    def columns(
+        self, axes: Sequence[str], defaults: Sequence[float], values: np.ndarray | None = None
+    ) -> np.ndarray:
         """(n, len(axes)) axis values in another axis order (a machine model's), taking
         ``defaults`` for axes the table does not have; ``values`` defaults to ``end``."""
         v = self.end if values is None else values
-        cols = [v[:, self.axes.index(a)] if a in self.axes else np.full(len(v), float(d))
-                for a, d in zip(axes, defaults, strict=True)]
+        cols = [
+            v[:, self.axes.index(a)] if a in self.axes else np.full(len(v), float(d))
+            for a, d in zip(axes, defaults, strict=True)
+        ]
         return np.stack(cols, axis=1) if cols else np.zeros((len(v), 0))
 
     def lengths(self) -> np.ndarray:
@@ -118,7 +122,8 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
     file_ix: dict[str, int] = {}
 
     starts, ends, kinds, feeds, modes, tls, offs, spd, drs, mst, cmds, lines, fls, stops = (
-        [] for _ in range(14))
+        [] for _ in range(14)
+    )
 
     def add(a, b, k, f, ci, c, last=True):
         starts.append(a)
@@ -185,8 +190,9 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
         a.setflags(write=False)
         return a
 
-    rotary = np.array([(control.axis(a).kind == "rotary") if control.axis(a) else a[0] in "ABC"
-                       for a in names], dtype=bool)
+    rotary = np.array(
+        [(control.axis(a).kind == "rotary") if control.axis(a) else a[0] in "ABC" for a in names], dtype=bool
+    )
     rotary.setflags(write=False)
     return MoveTable(
         axes=tuple(names),
@@ -212,8 +218,9 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
     )
 
 
-def arc_points(start: np.ndarray, end: np.ndarray, arc: canon.ArcFeed, col: dict[str, int],
-               chord: float = tol.chord) -> np.ndarray:
+def arc_points(
+    start: np.ndarray, end: np.ndarray, arc: canon.ArcFeed, col: dict[str, int], chord: float = tol.chord
+) -> np.ndarray:
     """Points along an arc or helix, start and end included.
 
     start, end : (k,) float — every axis; the plane axes turn about ``arc.center``, all other
