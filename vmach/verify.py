@@ -217,9 +217,12 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
                     _profile(report, stock, profile_spec, options.profile_z or setup.profile_z, options)
                 )
 
+    with clock("collisions"):
+        from vmach.checks.collisions import fixture_collisions, machine_collisions, tool_cylinders
+
+        report.findings.extend(machine_collisions(model, table))
     if library is not None:
         with clock("collisions"):
-            from vmach.checks.collisions import fixture_collisions, tool_cylinders
 
             cyl = {
                 i: tool_cylinders(t)

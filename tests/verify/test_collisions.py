@@ -94,3 +94,21 @@ def test_turning_the_chuck_under_a_tool_finds_the_jaw_it_meets(tmp_path):
     t = _moves(tmp_path, "G0 X150 Y0 Z10 C1=60\nG0 Z-80\nG0 X40\nG1 C1=0 F1000\n")
     f = fixture_collisions(MODEL, t, {0: tool_cylinders(D25)})
     assert [(x.kind, x.line) for x in f if x.kind == "fixture_collision"][0][1] == 6
+
+
+def test_turret_against_chuck_is_a_machine_collision(tmp_path):
+    from vmach.checks.collisions import machine_collisions
+
+    # the VDI turret disc (axis along Z, ±40 mm around the tool's Z, from X + 100 outward)
+    # meets the Ø250 chuck (z < -100) when the tool comes down to Z-70 at X20
+    t = _moves(tmp_path, "G0 X150 Y0 Z10\nG0 Z-70\nG0 X20\nG0 X150\n")
+    f = machine_collisions(MODEL, t)
+    assert sorted({(x.line, x.data["part"], x.data["obstacle"]) for x in f}) == [
+        (6, "turret_disc", "chuck_body"),
+        (7, "turret_disc", "chuck_body"),
+    ]
+    # the disc's rim reaches radius 20 + 100 = 120 into the chuck's 125: about 5 mm
+    assert max(x.data["depth_mm"] for x in f) == pytest.approx(5.0, abs=0.6)
+    # machining the polygon end stays clear of it
+    t = _moves(tmp_path, "G0 X40 Y0 Z10\nG1 X26 Z-20 F500\nG1 C1=360\nG0 X150\n")
+    assert machine_collisions(MODEL, t) == []

@@ -10,8 +10,10 @@ Error bound: a collision deeper than ``step`` mm along the path, or with an obst
 larger than the surface-point spacing ``step``, cannot be missed; shallower grazes may be.
 
 Findings: ``fixture_collision`` (error) where the tool enters an obstacle, ``near_miss``
-(warning) where a rapid passes closer than ``clearance`` without touching. One finding per
-(kind, obstacle, block); ``data`` holds the depth or distance in mm and the obstacle's name.
+(warning) where a rapid passes closer than ``clearance`` without touching,
+``machine_collision`` (error) where geometry carried with the tool (the turret) enters geometry
+that is not (chuck, headstock). One finding per (kind, obstacle, block); ``data`` holds the
+depth or distance in mm and the obstacle's name.
 """
 
 from __future__ import annotations
@@ -92,6 +94,27 @@ def _bounds(geom) -> np.ndarray:
         h = np.array([geom.radius, geom.radius, geom.length / 2], float)
     c = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], float) * h
     return np.column_stack([c, np.ones(8)])
+
+
+def primitive_points(geom, step: float) -> np.ndarray:
+    """(p, 4) homogeneous points on the surface of a box or cylinder, in its own frame, spaced
+    at most ``step`` mm."""
+    if geom.shape == "cylinder":
+        pts, _ = surface_points([Cylinder(geom.name, -geom.length / 2, geom.length / 2, geom.radius)], step)
+        return pts
+    h = np.asarray(geom.size, float) / 2
+    out = []
+    for axis in range(3):
+        u, v = [i for i in range(3) if i != axis]
+        gu = np.linspace(-h[u], h[u], max(2, math.ceil(2 * h[u] / step) + 1))
+        gv = np.linspace(-h[v], h[v], max(2, math.ceil(2 * h[v] / step) + 1))
+        uu, vv = np.meshgrid(gu, gv)
+        for side in (-1.0, 1.0):
+            p = np.zeros((uu.size, 3))
+            p[:, u], p[:, v], p[:, axis] = uu.ravel(), vv.ravel(), side * h[axis]
+            out.append(p)
+    p = np.concatenate(out)
+    return np.column_stack([p, np.ones(len(p))])
 
 
 def sample_moves(
@@ -192,3 +215,48 @@ def fixture_collisions(
     return [
         f for f in found if f.kind == "fixture_collision" or (f.data["obstacle"], f.move_index) not in hit
     ]
+
+
+def machine_collisions(model, table: MoveTable, step: float = 5.0) -> list[Finding]:
+    """``machine_collision`` where geometry carried with the tool meets geometry that is not,
+    at samples of every move (no tool point travels more than ``step`` mm between samples)."""
+    geoms = [g for g in model.spec.geometry if g.shape in ("box", "cylinder")]
+    if len(geoms) < 2 or len(table) == 0:
+        return []
+    q_table, owner = sample_moves(table, np.arange(len(table)), 800.0, step)
+    q = table.columns(model.axes, model.home, q_table)
+    frames = model.link2base(q)
+    tool2base = frames["tool"]
+    placed = {g.name: frames[g.link] @ g.origin.matrix for g in geoms}
+    carried = []
+    for g in geoms:
+        rel = np.linalg.inv(tool2base) @ placed[g.name]
+        carried.append(bool(np.abs(rel - rel[:1]).max() < 1e-9))
+    movers = [g for g, c in zip(geoms, carried, strict=True) if c]
+    fixed = [g for g, c in zip(geoms, carried, strict=True) if not c]
+    out: dict[tuple, Finding] = {}
+    for a in movers:
+        pts = primitive_points(a, step)
+        a_box = np.einsum("sij,pj->spi", placed[a.name], _bounds(a))[..., :3]
+        for b in fixed:
+            b_box = np.einsum("sij,pj->spi", placed[b.name], _bounds(b))[..., :3]
+            near = np.all(
+                (a_box.min(axis=1) <= b_box.max(axis=1)) & (a_box.max(axis=1) >= b_box.min(axis=1)), axis=1
+            )
+            for s in np.flatnonzero(near):
+                local = np.linalg.inv(placed[b.name][s]) @ placed[a.name][s]
+                dmin = float(signed_distance((pts @ local.T)[:, :3], b).min())
+                if dmin >= 0:
+                    continue
+                row = int(owner[s])
+                key = (a.name, b.name, int(table.command[row]))
+                if key not in out or -dmin > out[key].data["depth_mm"]:
+                    out[key] = Finding(
+                        "machine_collision",
+                        "error",
+                        f"{a.name} enters {b.name} by {-dmin:.2f} mm",
+                        table.source(row),
+                        row,
+                        {"part": a.name, "obstacle": b.name, "depth_mm": round(-dmin, 4)},
+                    )
+    return list(out.values())
