@@ -31,10 +31,7 @@ def compile_block(it: Interpreter, program: b.Program, blk: b.Block) -> Callable
     src = SourceRef(program.path, blk.line, 1, blk.text)
 
     def unbalanced(what: str) -> Callable[[], int]:
-        def op():
-            raise ProgramError("unbalanced_block", what, src)
-
-        return op
+        return _alarm("unbalanced_block", what, src)
 
     if kind in ("empty", "label", "proc"):
         return lambda: nxt
@@ -115,6 +112,15 @@ def compile_block(it: Interpreter, program: b.Program, blk: b.Block) -> Callable
     return _nc(it, program, blk, src)
 
 
+def _alarm(kind: str, what: str, src: SourceRef) -> Callable[[], int]:
+    """An op that stops the run with the control's alarm when the block is reached."""
+
+    def op():
+        raise ProgramError(kind, what, src)
+
+    return op
+
+
 def _const(v, col):
     from interpreters.sinumerik.expr import Node
 
@@ -124,11 +130,7 @@ def _const(v, col):
 def _for(it, program, blk, src):
     env = it.env
     if blk.partner < 0:
-
-        def op():
-            raise ProgramError("unbalanced_block", "FOR without ENDFOR", src)
-
-        return op
+        return _alarm("unbalanced_block", "FOR without ENDFOR", src)
     setter = it.setter(blk.for_target)
     start = compile_expr(blk.for_start, env)
     stop = compile_expr(blk.for_end, env)
@@ -147,11 +149,7 @@ def _for(it, program, blk, src):
 
 def _endfor(it, program, blk, src):
     if blk.partner < 0:
-
-        def bad():
-            raise ProgramError("unbalanced_block", "ENDFOR without FOR", src)
-
-        return bad
+        return _alarm("unbalanced_block", "ENDFOR without FOR", src)
     head = program.blocks[blk.partner]
     setter = it.setter(head.for_target)
     getter = _getter(it, head.for_target)

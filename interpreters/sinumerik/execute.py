@@ -17,8 +17,6 @@ from __future__ import annotations
 
 import math
 
-from interpreters.sinumerik.blocks import Word
-from interpreters.sinumerik.expr import EvalError
 from interpreters.sinumerik.frames import Frames, modulo_target, rot_axis, rpy
 from vmach import canon
 from vmach.canon import AxisSpec, ControlSpec
@@ -544,10 +542,3 @@ def _centre_from_radius(xa, ya, xb, yb, r, cw, src):
     if r < 0:
         side = -side
     return mx + side * h * nx, my + side * h * ny
-
-
-def values_error(kind: str, message: str, src: SourceRef, col: int) -> ProgramError:
-    return ProgramError(kind, message, src.at(col))
-
-
-__all__ = ["Machine", "Values", "EvalError", "Word"]

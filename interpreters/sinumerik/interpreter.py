@@ -15,7 +15,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik.execute import Machine, Values
+from interpreters.sinumerik.compile import CALL, STOP, compile_block
+from interpreters.sinumerik.execute import Machine
 from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
 from interpreters.sinumerik.parser import parse_program
 from interpreters.sinumerik.structure import analyse, find_target
@@ -25,10 +26,6 @@ from vmach.errors import ProgramError
 from vmach.files import decode_text, read_bytes
 from vmach.findings import Finding, warning
 from vmach.source import SourceRef
-
-END_LEVEL = -1
-CALL = -2
-STOP = -3
 
 PROGRAM_SUFFIXES = (".SPF", ".MPF")
 
@@ -276,8 +273,6 @@ class Interpreter:
 
     # -- compiling blocks ------------------------------------------------------------------
     def compile_block(self, program: b.Program, blk: b.Block) -> Callable[[], int]:
-        from interpreters.sinumerik.compile import compile_block
-
         return compile_block(self, program, blk)
 
     def jump_target(self, program: b.Program, blk: b.Block, jump: b.Jump) -> Callable[[], int]:
@@ -347,4 +342,4 @@ def _like(old, v, name: str):
     return _convert("REAL", v, name)
 
 
-__all__ = ["Interpreter", "Values", "END_LEVEL", "CALL", "STOP", "find_subprogram", "read_program"]
+__all__ = ["Interpreter", "find_subprogram", "read_program"]
