@@ -56,10 +56,7 @@ def spindle_off_cuts(table: MoveTable, tool_spindle: int | None) -> list[Finding
         return []
     cutting = table.kind != TRAVERSE
     if tool_spindle is None:
-        cols = np.array(
-            [table.spindles.index(int(m)) if int(m) in table.spindles else -1 for m in table.master]
-        )
-        turning = np.array([table.direction[i, c] != 0 if c >= 0 else False for i, c in enumerate(cols)])
+        turning = table.master_state()[1] != 0
     elif tool_spindle in table.spindles:
         turning = table.direction[:, table.spindles.index(tool_spindle)] != 0
     else:
@@ -96,12 +93,7 @@ def zero_feeds(table: MoveTable) -> list[Finding]:
     cutting = table.kind != TRAVERSE
     feed = np.nan_to_num(table.feed, nan=0.0)
     per_rev = table.feed_mode == FEED_MODES.index("per_rev")
-    master_speed = np.array(
-        [
-            table.speed[i, table.spindles.index(int(m))] if int(m) in table.spindles else 0.0
-            for i, m in enumerate(table.master)
-        ]
-    )
+    master_speed = table.master_state()[0]
     zero = cutting & ((feed <= 0) | (per_rev & (master_speed <= 0)))
     out = []
     for a, b in runs(zero):

@@ -87,6 +87,17 @@ class MoveTable:
         ]
         return np.stack(cols, axis=1) if cols else np.zeros((len(v), 0))
 
+    def master_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """Speed (n,) rev/min and direction (n,) of each row's master spindle (0 when the master
+        is not one of ``spindles``)."""
+        col = {s: i for i, s in enumerate(self.spindles)}
+        c = np.array([col.get(int(m), -1) for m in self.master], dtype=int)
+        rows = np.arange(len(self))
+        ok = c >= 0
+        speed = np.where(ok, self.speed[rows, np.maximum(c, 0)] if len(self.spindles) else 0.0, 0.0)
+        direction = np.where(ok, self.direction[rows, np.maximum(c, 0)] if len(self.spindles) else 0, 0)
+        return speed, direction
+
     def lengths(self) -> np.ndarray:
         """(n,) float — Euclidean length over the linear axes, mm."""
         d = self.end[:, ~self.rotary] - self.start[:, ~self.rotary]

@@ -279,10 +279,7 @@ def _programmed_speed(table: MoveTable, s: np.ndarray) -> np.ndarray:
     """
     feed = np.nan_to_num(table.feed, nan=0.0)
     block_length = np.bincount(table.command, s)[table.command]
-    spindle_col = {sp: i for i, sp in enumerate(table.spindles)}
-    lookup = np.array([spindle_col.get(m, -1) for m in range(int(table.master.max()) + 1)])
-    col = lookup[table.master]
-    master_speed = np.where(col >= 0, table.speed[np.arange(len(table)), np.maximum(col, 0)], 0.0)
+    master_speed = table.master_state()[0]
     mode = table.feed_mode
     v = np.select(
         [mode == PER_MINUTE, mode == PER_REV, mode == INVERSE_TIME],
