@@ -2,16 +2,91 @@
 
 CAM output is mostly lines of G0/G1, F and axis words; loops are mostly such lines and
 parameter settings. These methods do exactly what the general path (read_block, enhance,
-check, execute_block) does for those lines, with less work per line; each returns False,
-before changing anything, when a line or the machine state needs the general path.
-The golden and fuzz tests run through both paths.
+check, execute_block) does for those lines, with less work per line; each returns False
+(or 0), before changing anything, when a line or the machine state needs the general path.
+
+- :meth:`FastPathMixin.flat_run` executes runs of *flat* lines (constant G0/G1, F and axis
+  words, optionally an N number) straight from words read for the whole file with one
+  regular expression (:func:`flat_tokens`): no Line or Block object per line.
+- :meth:`FastPathMixin.fast_move` and :meth:`FastPathMixin.simple_step` execute parsed
+  lines of the same kind (inside loops and subroutines, where lines are parsed once).
+- :meth:`FastPathMixin.assign` executes lines of parameter settings only.
+
+``Interpreter.fast_paths = False`` switches them all off; ``tests/rs274ngc/test_fastpath.py``
+compares both ways on the golden programs and on generated ones.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import re
+from types import MemberDescriptorType
+
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.diag import NgcError
-from interpreters.rs274ngc.lexer import Line
+from interpreters.rs274ngc.lexer import Line, n_label
+from vmach.canon import LinearFeed, Traverse
+from vmach.source import SourceRef
+
+_NUM = r"([+-]?(?:[0-9]++\.?+[0-9]*+|\.[0-9]++))"
+_FEED = r"([0-9]++\.?+[0-9]*+|\.[0-9]++)"
+#: one line of the reduced text (lower case, no blanks: lexer.reduce_line), flat or not.
+#: A flat line holds an optional N number, then G0/G1, F and axis words in this order
+#: (F before or after the axes), constants only; its groups are n g f x y z a b c f, and the
+#: last group is empty. Any other line (comments, expressions, other words or another order)
+#: matches the second branch, whose group is the line end. Each word starts with its own
+#: letter, so a flat line splits into words one way only: the possessive quantifiers (no
+#: backtracking) change the speed, not the result.
+_FLAT = re.compile(
+    rf"(?:n([0-9]++))?+(?:g([0-9]++\.?+[0-9]*+))?+(?:f{_FEED})?+"
+    + "".join(f"(?:{c}{_NUM})?+" for c in "xyzabc")
+    + rf"(?:f{_FEED})?+\n|[^\n]*+(\n)"
+)
+_REDUCE = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz", " \t\r")
+_LONGEST = 252  # longer lines may exceed LinuxCNC's line buffer (interp.MAX_LINE)
+_NOT_FLAT = ("",) * 10 + ("\n",)
+#: G0/G1 as flat lines write them most often -> motion code
+_MOTION = {"0": 0, "00": 0, "1": 10, "01": 10}
+# Output.straight_feed's trace line with A B C already formatted (they seldom change)
+_FEED_LINE = "%5d %sSTRAIGHT_FEED(%.4f, %.4f, %.4f, %s)"
+_TRAVERSE_LINE = "%5d %sSTRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %s)"
+_ABC = "%.4f, %.4f, %.4f"
+_RATE_LINE = "%5d %sSET_FEED_RATE(%.4f)"
+
+
+def _slot_setters(cls, names: tuple[str, ...]):
+    """The slot setters of a frozen, slotted dataclass whose fields are exactly ``names``,
+    in order, so that ``object.__new__(cls)`` and the setters build what ``cls(*values)``
+    builds, without the frozen ``__init__``'s ``object.__setattr__`` per field (a third of
+    the time). None when the class has other fields, a ``__post_init__`` or no slots: then
+    the caller uses the constructor."""
+    if not dataclasses.is_dataclass(cls) or hasattr(cls, "__post_init__"):
+        return None
+    if tuple(f.name for f in dataclasses.fields(cls)) != names:
+        return None
+    slots = [getattr(cls, name, None) for name in names]
+    if not all(type(slot) is MemberDescriptorType for slot in slots):
+        return None
+    return tuple(slot.__set__ for slot in slots)
+
+
+_SOURCE_SETTERS = _slot_setters(SourceRef, ("path", "line", "column", "text"))
+_FEED_SETTERS = _slot_setters(LinearFeed, ("source", "axes", "feed"))
+_TRAVERSE_SETTERS = _slot_setters(Traverse, ("source", "axes"))
+
+
+def flat_tokens(text: str, raw: list[str]) -> list[tuple]:
+    """The words of every line of a program text, read at once: one tuple of strings per
+    line of ``raw`` (the text split into lines): the groups of :data:`_FLAT`, "" for an
+    absent word, the last one non-empty when the line is not flat. Reducing the whole text
+    at once is what lexer.reduce_line does line by line for lines without comments, the only
+    ones that can be flat. A line too long for LinuxCNC's line buffer is not flat."""
+    if not text.endswith("\n"):
+        text += "\n"
+    tokens = _FLAT.findall(text.translate(_REDUCE))
+    for i in [i for i, line in enumerate(raw) if len(line) > _LONGEST]:
+        tokens[i] = _NOT_FLAT
+    return tokens
 
 
 class FastPathMixin:
@@ -134,3 +209,154 @@ class FastPathMixin:
             self.convert_straight(motion, block)
         return True
 
+
+    def flat_run(self, prog, pc: int) -> int:
+        """Execute the run of flat lines that starts at line index ``pc`` of ``prog``, from
+        the words :func:`flat_tokens` read for the whole file: no Line, Block or word dict.
+
+        The effect is :meth:`fast_move`'s, line for line (the same trace lines, canonical
+        commands, state and block count). The run stops, before changing anything for that
+        line, at the first line that is not flat or that the state makes unsafe here (axis
+        words without G0/G1 mode, G1 without feed, the block limit); the general path takes
+        it from there. Returns the number of lines executed (0 when the state needs the
+        general path: inverse time or per-rev feed, G91, a pending tool change, a strict
+        machine, a pending spindle change).
+        """
+        s = self.s
+        out = self.out
+        if s.feed_mode or s.incremental or s.toolchange_flag or self.strict or out.spindle_dirty:
+            return 0
+        tokens = prog.flat
+        if tokens is None:
+            tokens = prog.flat = flat_tokens(prog.text, prog.raw)
+        raws = prog.raw
+        stop = min(len(raws), pc + self.options.max_blocks - self.blocks)
+        trace = out.trace
+        want = out.want
+        lines = out.lines
+        commands = out.commands
+        refs = prog.refs
+        path = prog.path
+        count = out.count
+        pos = s.pos
+        motion_mode = s.motion
+        feed = s.feed
+        metric = s.metric
+        rate = feed if metric else feed * 25.4
+        # machine values in the common case: out.machine inlined, the same operations
+        plain = out._xyz and not out.extra_used and out.abc_zero and not out.rotation
+        plain_abc = plain and not (pos[3] or pos[4] or pos[5])
+        unit = out.unit
+        ox, oy, oz = out.g92[:3]
+        gx, gy, gz = out.g5x[:3]
+        abc = _ABC % (pos[3], pos[4], pos[5])
+        quick = _SOURCE_SETTERS and _FEED_SETTERS and _TRAVERSE_SETTERS
+        if quick:
+            new = object.__new__
+            set_path, set_line, set_column, set_text = _SOURCE_SETTERS
+            set_source, set_axes, set_feed = _FEED_SETTERS
+            set_tsource, set_taxes = _TRAVERSE_SETTERS
+        moved = False
+        nlabel = out.nlabel
+        ref = out.src
+        i = pc
+        while i < stop:
+            n, g, f1, x, y, z, a, b, c, f2, other = tokens[i]
+            if other:
+                break
+            if g:
+                motion = _MOTION.get(g)
+                if motion is None:
+                    v = float(g)
+                    if v == 0.0:
+                        motion = 0
+                    elif v == 1.0:
+                        motion = 10
+                    else:
+                        break
+            elif x or y or z or a or b or c:
+                if motion_mode != 0 and motion_mode != 10:
+                    break
+                motion = motion_mode
+            else:
+                motion = -1
+            f = f1 or f2
+            if f:
+                if f1 and f2:
+                    break
+                fv = float(f)
+                if motion == 10 and fv == 0.0:
+                    break
+            elif motion == 10 and feed == 0.0:
+                break
+            # the line is executed from here on
+            if trace:
+                nlabel = n_label(raws[i]) if n else "N..... "  # N as written (N 20 -> "N")
+            if want:
+                ref = refs[i]
+                if ref is None:
+                    if quick:
+                        ref = new(SourceRef)
+                        set_path(ref, path)
+                        set_line(ref, i + 1)
+                        set_column(ref, 1)
+                        set_text(ref, raws[i].rstrip("\r"))
+                    else:
+                        ref = SourceRef(path, i + 1, 1, raws[i].rstrip("\r"))
+                    refs[i] = ref
+            i += 1
+            if f:
+                feed = fv
+                rate = fv if metric else fv * 25.4
+                if trace:
+                    count += 1
+                    lines.append(_RATE_LINE % (count, nlabel, fv))
+            if motion == -1:
+                continue
+            motion_mode = motion
+            moved = True
+            pos = [float(x) if x else pos[0], float(y) if y else pos[1],
+                   float(z) if z else pos[2], float(a) if a else pos[3],
+                   float(b) if b else pos[4], float(c) if c else pos[5]]
+            if a or b or c:
+                abc = _ABC % (pos[3], pos[4], pos[5])
+                plain_abc = plain and not (pos[3] or pos[4] or pos[5])
+            if trace:
+                count += 1
+                lines.append((_FEED_LINE if motion else _TRAVERSE_LINE)
+                             % (count, nlabel, pos[0], pos[1], pos[2], abc))
+            if want:
+                if plain_abc:
+                    axes = {"X": (pos[0] + ox + gx) * unit, "Y": (pos[1] + oy + gy) * unit,
+                            "Z": (pos[2] + oz + gz) * unit}
+                else:
+                    axes = out.machine(pos)
+                    if out.extra_used:  # A B C joined the axes (Output.machine)
+                        plain = plain_abc = False
+                if not quick:
+                    cmd = LinearFeed(ref, axes, rate) if motion else Traverse(ref, axes)
+                elif motion:
+                    cmd = new(LinearFeed)
+                    set_source(cmd, ref)
+                    set_axes(cmd, axes)
+                    set_feed(cmd, rate)
+                else:
+                    cmd = new(Traverse)
+                    set_tsource(cmd, ref)
+                    set_taxes(cmd, axes)
+                commands.append(cmd)
+        if i == pc:
+            return 0
+        self.blocks += i - pc
+        self.pc = i
+        self.index = i - 1
+        s.feed = feed
+        out.count = count
+        out.nlabel = nlabel
+        out.src = ref
+        if moved:
+            s.motion = motion_mode
+            s.cycle_il = None
+            s.pos = pos
+            out.ppos = list(pos)
+        return i - pc
