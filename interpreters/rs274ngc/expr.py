@@ -93,13 +93,25 @@ def _ge(a, b):
     return 1.0 if a >= b else 0.0
 
 
+def _mul(a, b):
+    return a * b
+
+
+def _add(a, b):
+    return a + b
+
+
+def _sub(a, b):
+    return a - b
+
+
 BINARY: dict[str, tuple[int, Callable[[float, float], float]]] = {
     "**": (6, _pow),
-    "*": (5, lambda a, b: a * b),
+    "*": (5, _mul),
     "/": (5, _div),
     "mod": (5, _mod),
-    "+": (4, lambda a, b: a + b),
-    "-": (4, lambda a, b: a - b),
+    "+": (4, _add),
+    "-": (4, _sub),
     "eq": (3, _eq),
     "ne": (3, _ne),
     "gt": (3, lambda a, b: 1.0 if a > b else 0.0),
@@ -110,6 +122,9 @@ BINARY: dict[str, tuple[int, Callable[[float, float], float]]] = {
     "or": (2, lambda a, b: 1.0 if (a != 0.0 or b != 0.0) else 0.0),
     "xor": (2, lambda a, b: 1.0 if ((a == 0.0) != (b == 0.0)) else 0.0),
 }
+#: operations that raise nothing for any floats (inf and NaN included): no error to locate
+_INFALLIBLE = frozenset(BINARY[op][1] for op in (
+    "*", "mod", "+", "-", "eq", "ne", "gt", "ge", "lt", "le", "and", "or", "xor"))
 
 
 def _acos(x):
@@ -469,6 +484,18 @@ def to_integer(x: float, col: int = 0) -> int:
 def _combine(fn, a: Value, b: Value, col: int) -> Value:
     if type(a) is float and type(b) is float:
         return _apply(fn, a, b, col)
+    if fn in _INFALLIBLE:  # the same values, without _apply's error handling
+        if fn is _add:
+            if type(a) is float:
+                return lambda ctx: a + b(ctx)
+            if type(b) is float:
+                return lambda ctx: a(ctx) + b
+            return lambda ctx: a(ctx) + b(ctx)
+        if type(a) is float:
+            return lambda ctx: fn(a, b(ctx))
+        if type(b) is float:
+            return lambda ctx: fn(a(ctx), b)
+        return lambda ctx: fn(a(ctx), b(ctx))
     if type(a) is float:
         return lambda ctx: _apply(fn, a, b(ctx), col)
     if type(b) is float:
@@ -488,6 +515,6 @@ def _apply(fn, a: float, b: float, col: int) -> float:
 
 
 def _check_at(x: float, col: int) -> float:
-    if x != x or x in (math.inf, -math.inf):
+    if x - x != 0.0:  # NaN or infinite (x - x is NaN exactly then)
         raise NgcError("not_a_number" if x != x else "infinity", col)
     return x

@@ -18,13 +18,12 @@ compares both ways on the golden programs and on generated ones.
 
 from __future__ import annotations
 
-import dataclasses
 import re
-from types import MemberDescriptorType
 
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.lexer import Line, n_label
+from interpreters.rs274ngc.output import FEED_SETTERS, SOURCE_SETTERS, TRAVERSE_SETTERS
 from vmach.canon import LinearFeed, Traverse
 from vmach.source import SourceRef
 
@@ -52,27 +51,6 @@ _FEED_LINE = "%5d %sSTRAIGHT_FEED(%.4f, %.4f, %.4f, %s)"
 _TRAVERSE_LINE = "%5d %sSTRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %s)"
 _ABC = "%.4f, %.4f, %.4f"
 _RATE_LINE = "%5d %sSET_FEED_RATE(%.4f)"
-
-
-def _slot_setters(cls, names: tuple[str, ...]):
-    """The slot setters of a frozen, slotted dataclass whose fields are exactly ``names``,
-    in order, so that ``object.__new__(cls)`` and the setters build what ``cls(*values)``
-    builds, without the frozen ``__init__``'s ``object.__setattr__`` per field (a third of
-    the time). None when the class has other fields, a ``__post_init__`` or no slots: then
-    the caller uses the constructor."""
-    if not dataclasses.is_dataclass(cls) or hasattr(cls, "__post_init__"):
-        return None
-    if tuple(f.name for f in dataclasses.fields(cls)) != names:
-        return None
-    slots = [getattr(cls, name, None) for name in names]
-    if not all(type(slot) is MemberDescriptorType for slot in slots):
-        return None
-    return tuple(slot.__set__ for slot in slots)
-
-
-_SOURCE_SETTERS = _slot_setters(SourceRef, ("path", "line", "column", "text"))
-_FEED_SETTERS = _slot_setters(LinearFeed, ("source", "axes", "feed"))
-_TRAVERSE_SETTERS = _slot_setters(Traverse, ("source", "axes"))
 
 
 def flat_tokens(text: str, raw: list[str]) -> list[tuple]:
@@ -160,33 +138,34 @@ class FastPathMixin:
         Does what read_block/enhance/check/execute_block do for such a line; returns False,
         before changing anything, when the line needs the general path after all.
         """
-        block = blk.Block(line)
         fast = line.fast
         if fast is not None:
             motion, words = fast
-            block.words = words
-            if motion != -1:
-                block.g[1] = motion
-            return self._simple_execute(block, motion, words)
-        words = block.words
-        motion = -1
-        for k, item in enumerate(line.items):
-            v = item[2]
-            if type(v) is not float:
-                try:
-                    v = v(self)
-                except NgcError as exc:
-                    if not exc.column:
-                        exc.column = item[3] or 1
-                    raise
-            letter = item[1]
-            if letter == "g":
-                motion = 0 if v == 0.0 else 10
-                block.g[1] = motion
-            else:
-                if letter == "f" and v < 0.0:
-                    raise NgcError("negative_feed", item[3] or blk.item_column(line, k))
-                words[letter] = v
+        else:
+            words = {}
+            motion = -1
+            for k, item in enumerate(line.items):
+                v = item[2]
+                if type(v) is not float:
+                    try:
+                        v = v(self)
+                    except NgcError as exc:
+                        if not exc.column:
+                            exc.column = item[3] or 1
+                        raise
+                letter = item[1]
+                if letter == "g":
+                    motion = 0 if v == 0.0 else 10
+                else:
+                    if letter == "f" and v < 0.0:
+                        raise NgcError("negative_feed", item[3] or blk.item_column(line, k))
+                    words[letter] = v
+            if self.fast_move((motion, words)):
+                return True
+        block = blk.Block(line)
+        block.words = words
+        if motion != -1:
+            block.g[1] = motion
         return self._simple_execute(block, motion, words)
 
     def _simple_execute(self, block, motion: int, words: dict) -> bool:
@@ -250,12 +229,12 @@ class FastPathMixin:
         ox, oy, oz = out.g92[:3]
         gx, gy, gz = out.g5x[:3]
         abc = _ABC % (pos[3], pos[4], pos[5])
-        quick = _SOURCE_SETTERS and _FEED_SETTERS and _TRAVERSE_SETTERS
+        quick = SOURCE_SETTERS and FEED_SETTERS and TRAVERSE_SETTERS
         if quick:
             new = object.__new__
-            set_path, set_line, set_column, set_text = _SOURCE_SETTERS
-            set_source, set_axes, set_feed = _FEED_SETTERS
-            set_tsource, set_taxes = _TRAVERSE_SETTERS
+            set_path, set_line, set_column, set_text = SOURCE_SETTERS
+            set_source, set_axes, set_feed = FEED_SETTERS
+            set_tsource, set_taxes = TRAVERSE_SETTERS
         moved = False
         nlabel = out.nlabel
         ref = out.src

@@ -103,7 +103,7 @@ class FlowMixin:
             self.call_args = ()
         if o.trailing_error is not None:
             raise o.trailing_error
-        getattr(self, "o_" + o.kind)(line, o, self.qualified(o))
+        getattr(self, o.handler)(line, o, self.qualified(o))
         if self.skipping is not None:
             self.skip()
 

@@ -214,6 +214,12 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
     def main_loop(self) -> None:
         limit = self.options.max_blocks
         out = self.out
+        trace = out.trace
+        want = out.want
+        fast_paths = self.fast_paths
+        flat_run = self.flat_run
+        fast_move = self.fast_move
+        step = self.step
         while True:
             prog = self.prog
             pc = self.pc
@@ -221,23 +227,23 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
                 self.end_of_file()
             line = prog.lines[pc]
             if line is None:
-                if self.fast_paths and self.flat_run(prog, pc):
+                if fast_paths and flat_run(prog, pc):
                     continue
                 line = prog.line(pc)
             self.pc = pc + 1
             self.index = pc
             self.line = line
-            if out.trace:
+            if trace:
                 out.nlabel = line.nlabel or _nlabel(line)
-            if out.want:
+            if want:
                 out.src = prog.refs[pc] or prog.ref(pc)
             self.blocks += 1
             if self.blocks > limit:
                 raise NgcError("block_limit", limit=limit)
             fast = line.fast
-            if fast is not None and self.fast_paths and self.fast_move(fast):
+            if fast is not None and fast_paths and fast_move(fast):
                 continue
-            status = self.step(line)
+            status = step(line)
             if out.spindle_dirty:
                 out.flush()
             if status == END:

@@ -44,10 +44,11 @@ class OLine:
     """
 
     __slots__ = ("kind", "name", "col", "args", "value", "comment", "value_error",
-                 "trailing_error")
+                 "trailing_error", "handler")
 
     def __init__(self, kind, name, col, args=(), value=None, comment=None):
         self.kind = kind
+        self.handler = "o_" + kind  # the interpreter's method (flow.py)
         self.name = name
         self.col = col
         self.args = args
@@ -95,20 +96,13 @@ class Line:
         self.number = number
         self.raw = raw
 
-    @property
-    def items(self) -> list[tuple]:
-        """Words, settings and comments in reading order (built on first use for lines
-        of plain constant words, which the fast path executes without them)."""
-        d = self.__dict__
-        items = d.get("_items")
-        if items is None:
-            found = d.get("found", ())
-            items = d["_items"] = [("w", a, float(b), 0) for a, b in found]
+    def __getattr__(self, name: str):
+        """``items`` (words, settings and comments in reading order) of a line of plain
+        constant words, which the fast paths execute without them: built on first use."""
+        if name != "items":
+            raise AttributeError(name)
+        items = self.items = [("w", a, float(b), 0) for a, b in self.__dict__.get("found", ())]
         return items
-
-    @items.setter
-    def items(self, value: list[tuple]) -> None:
-        self.__dict__["_items"] = value
 
 
 def n_label(raw: str) -> str:

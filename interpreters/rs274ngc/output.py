@@ -13,7 +13,9 @@ control mode, spindle, coolant), as saicanon.cc keeps its "dummy world".
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from types import MemberDescriptorType
 
 from vmach import canon as vc
 from vmach.source import SourceRef
@@ -22,6 +24,67 @@ PLANE_NAMES = {170: "XY", 180: "XZ", 190: "YZ"}
 #: (first, second, normal) axes of the arc plane for vmach.canon.ArcFeed
 PLANE_AXES = {170: ("X", "Y", "Z"), 180: ("Z", "X", "Y"), 190: ("Y", "Z", "X")}
 _LETTERS = "XYZABC"
+
+
+def _slot_setters(cls, names: tuple[str, ...]):
+    """The slot setters of a frozen, slotted dataclass whose fields are exactly ``names``,
+    in order, so that ``object.__new__(cls)`` and the setters build what ``cls(*values)``
+    builds, without the frozen ``__init__``'s ``object.__setattr__`` per field (a third of
+    the time). None when the class has other fields, a ``__post_init__`` or no slots: then
+    the caller uses the constructor."""
+    if not dataclasses.is_dataclass(cls) or hasattr(cls, "__post_init__"):
+        return None
+    if tuple(f.name for f in dataclasses.fields(cls)) != names:
+        return None
+    slots = [getattr(cls, name, None) for name in names]
+    if not all(type(slot) is MemberDescriptorType for slot in slots):
+        return None
+    return tuple(slot.__set__ for slot in slots)
+
+
+SOURCE_SETTERS = _slot_setters(SourceRef, ("path", "line", "column", "text"))
+FEED_SETTERS = _slot_setters(vc.LinearFeed, ("source", "axes", "feed"))
+TRAVERSE_SETTERS = _slot_setters(vc.Traverse, ("source", "axes"))
+
+
+def _feed_maker():
+    if FEED_SETTERS is None:
+        return vc.LinearFeed
+    new = object.__new__
+    cls = vc.LinearFeed
+    set_source, set_axes, set_feed = FEED_SETTERS
+
+    def make(source: SourceRef, axes: dict[str, float], feed: float) -> vc.LinearFeed:
+        cmd = new(cls)
+        set_source(cmd, source)
+        set_axes(cmd, axes)
+        set_feed(cmd, feed)
+        return cmd
+
+    return make
+
+
+def _traverse_maker():
+    if TRAVERSE_SETTERS is None:
+        return vc.Traverse
+    new = object.__new__
+    cls = vc.Traverse
+    set_source, set_axes = TRAVERSE_SETTERS
+
+    def make(source: SourceRef, axes: dict[str, float]) -> vc.Traverse:
+        cmd = new(cls)
+        set_source(cmd, source)
+        set_axes(cmd, axes)
+        return cmd
+
+    return make
+
+
+#: ``vc.LinearFeed(source, axes, feed)`` and ``vc.Traverse(source, axes)``, built faster
+new_feed = _feed_maker()
+new_traverse = _traverse_maker()
+_FEED_TRACE = "%5d %sSTRAIGHT_FEED(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)"
+_TRAVERSE_TRACE = "%5d %sSTRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)"
 
 
 class Output:
@@ -231,17 +294,23 @@ class Output:
 
     def straight_traverse(self, p) -> None:
         if self.trace:
-            self._p("STRAIGHT_TRAVERSE(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)" % tuple(p))
+            self.count += 1
+            self.lines.append(_TRAVERSE_TRACE % (self.count, self.nlabel, *p))
         self.ppos = list(p)
         if self.want:
-            self._c(vc.Traverse(self.src, axes=self.machine(p)))
+            if self.spindle_dirty:
+                self.flush()
+            self.commands.append(new_traverse(self.src, self.machine(p)))
 
     def straight_feed(self, p, feed: float) -> None:
         if self.trace:
-            self._p("STRAIGHT_FEED(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)" % tuple(p))
+            self.count += 1
+            self.lines.append(_FEED_TRACE % (self.count, self.nlabel, *p))
         self.ppos = list(p)
         if self.want:
-            self._c(vc.LinearFeed(self.src, axes=self.machine(p), feed=feed))
+            if self.spindle_dirty:
+                self.flush()
+            self.commands.append(new_feed(self.src, self.machine(p), feed))
 
     def arc_feed(self, plane: int, e1, e2, c1, c2, rotation: int, e3, abc, feed: float) -> None:
         if self.trace:

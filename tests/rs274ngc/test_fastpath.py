@@ -19,7 +19,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from interpreters.rs274ngc import FORMATS, fastpath, run
+from interpreters.rs274ngc import FORMATS, output, run
 from interpreters.rs274ngc.interp import Interpreter
 from vmach.canon import AxisSpec, ControlSpec, LinearFeed, RunOptions, Traverse
 from vmach.source import SourceRef
@@ -245,9 +245,9 @@ def test_flat_path_builds_the_same_objects_as_the_constructors():
     src = SourceRef("a.ngc", 3, 1, "G1 X1")
     made = []
     for cls, setters, values in (
-        (SourceRef, fastpath._SOURCE_SETTERS, ("a.ngc", 3, 1, "G1 X1")),
-        (LinearFeed, fastpath._FEED_SETTERS, (src, {"X": 1.0}, 500.0)),
-        (Traverse, fastpath._TRAVERSE_SETTERS, (src, {"X": -0.0})),
+        (SourceRef, output.SOURCE_SETTERS, ("a.ngc", 3, 1, "G1 X1")),
+        (LinearFeed, output.FEED_SETTERS, (src, {"X": 1.0}, 500.0)),
+        (Traverse, output.TRAVERSE_SETTERS, (src, {"X": -0.0})),
     ):
         assert setters is not None, cls
         obj = object.__new__(cls)
@@ -271,7 +271,7 @@ def test_slot_setters_refuse_classes_they_cannot_build():
     class Unslotted:
         a: int
 
-    assert fastpath._slot_setters(Checked, ("a",)) is None
-    assert fastpath._slot_setters(Unslotted, ("a",)) is None
-    assert fastpath._slot_setters(SourceRef, ("path", "line")) is None
-    assert fastpath._slot_setters(SourceRef, ("path", "line", "column", "text")) is not None
+    assert output._slot_setters(Checked, ("a",)) is None
+    assert output._slot_setters(Unslotted, ("a",)) is None
+    assert output._slot_setters(SourceRef, ("path", "line")) is None
+    assert output._slot_setters(SourceRef, ("path", "line", "column", "text")) is not None
