@@ -66,13 +66,17 @@ def run(path, control: ControlSpec = DEFAULT_CONTROL,
 
 
 def rs274_trace(path, control: ControlSpec = DEFAULT_CONTROL, options: RunOptions | None = None,
-                extra: dict | None = None) -> tuple[list[str], RunResult]:
+                extra: dict | None = None, *, commands: bool = False
+                ) -> tuple[list[str], RunResult]:
     """The lines ``rs274 -g [-t TOOLTABLE] path`` prints on stdout, and the run's result.
 
     extra : ``{"tool_table": path}`` for a LinuxCNC tool table, ``{"block_delete": True}``
         for rs274's ``-b``.
+    commands : also build the canonical commands (``result.commands``, as :func:`run`
+        gives them). Off by default: the trace is this format's output, and ``result`` is
+        for ``completed``, ``findings`` and ``blocks``, which are the same either way.
     """
-    out, result = _interpret(path, control, options, extra, trace=True, commands=True)
+    out, result = _interpret(path, control, options, extra, trace=True, commands=commands)
     return out.lines, result
 
 

@@ -14,7 +14,9 @@ Operators of equal precedence associate to the left. Angles are in degrees.
 
 Parsing happens once per source line; it yields a *value*: a ``float`` when the text is a
 constant, else a function ``value(ctx) -> float`` that reads parameters through ``ctx``
-(an object with ``par(index)``, ``named(name)``, ``exists(name)`` and ``tool_diameter(n)``).
+(an object with ``par(index)``, ``named(name)``, ``exists(name)``, ``tool_diameter(n)``
+and ``params``, the list of stored numbered parameters that ``par`` reads, except
+#5420..#5425, the current position).
 Arithmetic errors raise :class:`~interpreters.rs274ngc.diag.NgcError` when evaluated.
 """
 
@@ -329,6 +331,8 @@ class Reader:
         index, pos = self.integer(pos)
         if type(index) is float:
             i = int(index)
+            if 1 <= i < 5602 and not 5420 <= i <= 5425:  # a stored value: read it directly
+                return (lambda ctx: ctx.params[i]), pos
             if 1 <= i < 5602:
                 return (lambda ctx: ctx.par(i)), pos
             return (lambda ctx: _read(ctx.par, i, col)), pos
@@ -450,7 +454,14 @@ class Reader:
             except NgcError as exc:
                 exc.column = start_col
                 return self._failed(exc), pos
-        return (lambda ctx: _check_at(tree(ctx), start_col)), pos
+
+        def checked_tree(ctx):
+            x = tree(ctx)
+            if x - x == 0.0:  # not NaN, not infinite: _check_at inlined
+                return x
+            return _check_at(x, start_col)
+
+        return checked_tree, pos
 
 
 def _read(fn, key, col):

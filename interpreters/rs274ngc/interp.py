@@ -103,6 +103,7 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
         self.block_delete = block_delete
         self.s = Settings()
         self.pars = Params()
+        self.params = self.pars.num  # for expr.py (see its context), never replaced
         self.programs: dict[str, Program] = {}
         self.prog: Program | None = None
         self.pc = 0  # index of the next line to read in self.prog

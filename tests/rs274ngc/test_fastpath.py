@@ -19,7 +19,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from interpreters.rs274ngc import FORMATS, output, run
+from interpreters.rs274ngc import FORMATS, output, rs274_trace, run
 from interpreters.rs274ngc.interp import Interpreter
 from vmach.canon import AxisSpec, ControlSpec, LinearFeed, RunOptions, Traverse
 from vmach.source import SourceRef
@@ -41,11 +41,16 @@ def _fast_paths(on: bool):
 
 def _outcome(path, control=None, options=None, extra=None) -> dict:
     lines, traced = FORMATS["rs274"](path, control, options, extra or {})
+    assert traced.commands == []  # the trace format builds the trace only
+    both_lines, both = rs274_trace(path, control, options, extra or {}, commands=True)
+    assert both_lines == lines
     result = run(path, control, options)
     return {
         "trace": lines,
         "traced": (traced.completed, traced.blocks, repr(traced.findings)),
+        "traced with commands": (both.completed, both.blocks, repr(both.findings)),
         "commands": [repr(c) for c in result.commands],
+        "commands with the trace": [repr(c) for c in both.commands],
         "result": (result.completed, result.blocks, repr(result.findings)),
     }
 
@@ -58,6 +63,10 @@ def assert_same_both_ways(path, control=None, options=None, extra=None) -> dict:
         general = _outcome(path, control, options, extra)
     for key in fast:
         assert fast[key] == general[key], key
+    assert fast["traced"] == fast["traced with commands"]
+    if not extra:  # run() knows no tool table nor block delete
+        assert fast["commands"] == fast["commands with the trace"]
+        assert fast["traced"][0] == fast["result"][0]
     return fast
 
 
