@@ -102,9 +102,11 @@ class FastPathMixin:
         minute. Same effect as :meth:`step`; returns False, before doing anything, when the
         block or the state needs the general path."""
         s = self.s
-        if s.feed_mode or s.incremental or s.toolchange_flag or self.strict:
+        if s.feed_mode or s.incremental or s.toolchange_flag:
             return False
         motion, words = fast
+        if self.strict and not self.known_words.issuperset(words):
+            return False  # an unknown axis: the general path's error
         f = words.get("f")
         if motion == -1:
             if len(words) > (f is not None):
@@ -196,15 +198,20 @@ class FastPathMixin:
         The effect is :meth:`fast_move`'s, line for line (the same trace lines, canonical
         commands, state and block count). The run stops, before changing anything for that
         line, at the first line that is not flat or that the state makes unsafe here (axis
-        words without G0/G1 mode, G1 without feed, the block limit); the general path takes
+        words without G0/G1 mode, G1 without feed, an axis a strict machine does not have,
+        the block limit); the general path takes
         it from there. Returns the number of lines executed (0 when the state needs the
-        general path: inverse time or per-rev feed, G91, a pending tool change, a strict
-        machine, a pending spindle change).
+        general path: inverse time or per-rev feed, G91, a pending tool change, a pending
+        spindle change).
         """
         s = self.s
         out = self.out
-        if s.feed_mode or s.incremental or s.toolchange_flag or self.strict or out.spindle_dirty:
+        if s.feed_mode or s.incremental or s.toolchange_flag or out.spindle_dirty:
             return 0
+        # axes a strict machine does not have: such a line is left to the general path
+        known = self.known_words if self.strict else "xyzabc"
+        ux, uy, uz, ua, ub, uc = (letter not in known for letter in "xyzabc")
+        unknown = ux or uy or uz or ua or ub or uc
         tokens = prog.flat
         if tokens is None:
             tokens = prog.flat = flat_tokens(prog.text, prog.raw)
@@ -259,6 +266,9 @@ class FastPathMixin:
                 motion = motion_mode
             else:
                 motion = -1
+            if unknown and ((x and ux) or (y and uy) or (z and uz) or (a and ua) or (b and ub)
+                            or (c and uc)):
+                break
             f = f1 or f2
             if f:
                 if f1 and f2:

@@ -114,6 +114,8 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
         self.ended = False
         self.strict = control.strict_axes
         self.known_axes = {a.name for a in control.axes}
+        #: the words of a simple line a strict machine accepts: its axes and F
+        self.known_words = frozenset(c for c in "xyzabcf" if c == "f" or c.upper() in self.known_axes)
         self.init_flow()
 
     # -- evaluation context (see expr.py) ----------------------------------------------------

@@ -163,13 +163,19 @@ def test_block_limit_inside_a_flat_run(tmp_path):
         assert out["result"][:2] == (limit >= 42, min(limit + 1, 42))
 
 
-def test_strict_machine_both_ways(tmp_path):
-    control = ControlSpec(axes=(AxisSpec("X"), AxisSpec("Y"), AxisSpec("Z")), strict_axes=True)
-    text = "G1 X1 Y1 F100\nG1 X2\nG1 A3\nM2\n"
-    out = assert_same_both_ways(_write(tmp_path, text), control=control)
-    assert "unknown_axis" in out["result"][2]
-    five = ControlSpec(axes=tuple(AxisSpec(a) for a in "XYZAC"))
-    assert_same_both_ways(_write(tmp_path, "G0 X1 A5\nG0 C3\nG0 X2\nM2\n"), control=five)
+@pytest.mark.parametrize("axes", ["XYZ", "XYZAC", "XZ", "XYZB"])
+@pytest.mark.parametrize("strict", [True, False])
+def test_machines_both_ways(tmp_path, axes, strict):
+    control = ControlSpec(axes=tuple(AxisSpec(a) for a in axes), strict_axes=strict)
+    for text in (
+        "G1 X1 Y1 F100\nG1 X2\nG1 Z-1\nG1 A3\nG1 X3\nM2\n",
+        "G1 X1 F100\nX2\nY3\nM2\n",
+        "G0 X1 A5\nG0 C3\nG0 X2\nG0 B1\nG0 A0 C0\nM2\n",
+        "F100\no1 repeat [2]\nG1 X1 Y[1+1]\nG1 Z[-1] C[2]\no1 endrepeat\nM2\n",
+    ):
+        out = assert_same_both_ways(_write(tmp_path, text), control=control)
+        if strict and any(c in text for c in "ABCY" if c not in axes):
+            assert "unknown_axis" in out["result"][2]
 
 
 def test_block_delete_both_ways(tmp_path):
