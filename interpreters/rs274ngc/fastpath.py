@@ -199,10 +199,13 @@ class FastPathMixin:
         commands, state and block count). The run stops, before changing anything for that
         line, at the first line that is not flat or that the state makes unsafe here (axis
         words without G0/G1 mode, G1 without feed, an axis a strict machine does not have,
-        the block limit); the general path takes
-        it from there. Returns the number of lines executed (0 when the state needs the
-        general path: inverse time or per-rev feed, G91, a pending tool change, a pending
-        spindle change).
+        the block limit); the general path takes it from there. Returns the number of lines
+        executed (0 when the state needs the general path: inverse time or per-rev feed,
+        G91, a pending tool change, a pending spindle change).
+
+        Commands and source references are built with the slot setters of
+        :func:`interpreters.rs274ngc.output._slot_setters` when the classes allow it (the
+        same objects as their constructors build, faster), else with the constructors.
         """
         s = self.s
         out = self.out

@@ -19,7 +19,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from interpreters.rs274ngc import FORMATS, output, rs274_trace, run
+from interpreters.rs274ngc import FORMATS, fastpath, output, rs274_trace, run
 from interpreters.rs274ngc.interp import Interpreter
 from vmach.canon import AxisSpec, ControlSpec, LinearFeed, RunOptions, Traverse
 from vmach.source import SourceRef
@@ -290,3 +290,26 @@ def test_slot_setters_refuse_classes_they_cannot_build():
     assert output._slot_setters(Unslotted, ("a",)) is None
     assert output._slot_setters(SourceRef, ("path", "line")) is None
     assert output._slot_setters(SourceRef, ("path", "line", "column", "text")) is not None
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.one_of(
+    _flat_line,
+    st.text(alphabet=st.sampled_from(list("GgXxYyZzFfNnAa01-+. \t\r\x0b\x0c(;)#[]%/é\u2028")),
+            max_size=20),
+), max_size=12))
+def test_odd_characters_both_ways(lines):
+    """Line ends and blanks of every kind, control characters, non-ASCII letters."""
+    with tempfile.TemporaryDirectory() as d:
+        assert_same_both_ways(_write(Path(d), "\n".join(lines) + "\nM2\n"),
+                              options=RunOptions(max_blocks=200))
+
+
+def test_flat_path_with_the_constructors(tmp_path, monkeypatch):
+    """Should the command classes change so that the slot setters cannot build them, the flat
+    path builds them with their constructors: the same output."""
+    text = "G21 F100\nG1 X1 Y-0\nG0 Z5\nN10 G1 X2 A1\nG1 X3\nG1 B0 A0\nM2\n"
+    path = _write(tmp_path, text)
+    quick = assert_same_both_ways(path)
+    monkeypatch.setattr(fastpath, "SOURCE_SETTERS", None)
+    assert assert_same_both_ways(path) == quick
