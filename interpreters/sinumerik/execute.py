@@ -311,6 +311,9 @@ class Machine:
         vals = v.frame_values
         scale = INCH if self.inch else 1.0
         if fc.name in ("TRANS", "ATRANS"):
+            for k in vals:
+                if k not in self.specs:
+                    self.add_axis(k)  # a loose axis (no strict axes): known from here on, as after a move
             d = {k: (val * scale if self.specs[k].kind == "linear" else val) for k, val in vals.items()}
             (self.frames.trans_abs if fc.name == "TRANS" else self.frames.trans_add)(d)
         else:

@@ -501,13 +501,7 @@ class BlockParser:
         if _BLOCKNO.match(name):
             self.fail("syntax", "a block number must come first in the block", t.col)
         m = _ADDR_NUM.match(name)
-        if m or (
-            len(name) == 1
-            and (
-                self.tok.kind == NUM
-                or (self.tok.kind == OP and self.tok.text in "+-" and self.peek().kind == NUM)
-            )
-        ):
+        if m or (len(name) == 1 and self.short_value_follows()):
             letter, value = (m.group(1), _parse_number(m.group(2))) if m else (name, self.signed_number())
             return self.letter_word(t, letter, value)
         if self.g.is_axis(name):
@@ -521,11 +515,22 @@ class BlockParser:
         self.fail("unknown_word", self.unknown_word_message(name), t.col)
         return None
 
+    def short_value_follows(self) -> bool:
+        """After a one-letter address: a number, or a sign right before one (``X 10``, ``X -10``).
+
+        Anything else (``X +``, ``X * 3``, ``X -(1)``) is not a short value; an expression needs ``X=``.
+        """
+        t = self.tok
+        return t.kind == NUM or (t.kind == OP and t.text in ("+", "-") and self.peek().kind == NUM)
+
     def signed_number(self) -> float | int:
+        """Read the short value that :meth:`short_value_follows` has seen."""
         sign = 1
-        if self.tok.kind == OP:
+        if self.tok.kind == OP and self.tok.text in ("+", "-"):
             sign = -1 if self.tok.text == "-" else 1
             self.pos += 1
+        if self.tok.kind != NUM:
+            self.fail("syntax", f"expected a number, found {self.describe(self.tok)}")
         v = self.tok.value
         self.pos += 1
         return sign * v  # type: ignore[operator]
@@ -567,9 +572,11 @@ class BlockParser:
             if m and self.g.is_axis(m.group(1)):
                 words.append(b.Word(wt.col, m.group(1), "axis", _num_node(_parse_number(m.group(2)), wt.col)))
                 continue
-            if len(wt.text) == 1 and self.g.is_axis(wt.text) and self.tok.kind in (NUM, OP):
+            if len(wt.text) == 1 and self.g.is_axis(wt.text) and self.short_value_follows():
                 words.append(b.Word(wt.col, wt.text, "axis", _num_node(self.signed_number(), wt.col)))
                 continue
+            if self.g.is_axis(wt.text):
+                self.fail("syntax", f"axis {wt.text} needs a value: {wt.text}=...", wt.col)
             self.fail(
                 "syntax",
                 f"{t.text} takes axis values only (a frame instruction needs its own block)",

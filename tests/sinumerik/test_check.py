@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import pytest
 from catalog import TURNMILL
-from nc import check, kinds
+from nc import check, error_of, kinds, run
 
+from vmach.canon import DEFAULT_CONTROL
 from vmach.machine.control import load_control
 
 TURN = load_control(TURNMILL)
@@ -50,6 +51,39 @@ def test_clean_program_has_no_findings(tmp_path):
 )
 def test_defects_are_reported_at_their_place(tmp_path, text, expected):
     assert where(check(tmp_path, text)) == expected
+
+
+@pytest.mark.parametrize("control", [DEFAULT_CONTROL, TURN], ids=["default", "turnmill"])
+@pytest.mark.parametrize(
+    "block, column",
+    [
+        ("TRANS X +", 7),
+        ("ATRANS X -", 8),
+        ("TRANS X *", 7),
+        ("TRANS X * 3", 7),
+        ("TRANS X / 2", 7),
+        ("TRANS X - -3", 7),
+        ("TRANS X + (3)", 7),
+        ("TRANS X + Y1", 7),
+        ("ROT RPL=3 Z", 11),
+        ("ROT Z=", 7),
+        ("TRANS X=", 9),
+        ("TRANS X=3+", 11),
+        ("AROT RPL=", 10),
+        ("AROT RPL=-", 11),
+    ],
+)
+def test_frame_axis_without_a_whole_value_is_a_syntax_error(tmp_path, control, block, column):
+    # a frame instruction's short axis value is a number or a sign and a number, never a dangling
+    # operator (once a TypeError, and "X * 3" was read as X3); check and run report the same place
+    text = f"G0 X1\n{block}\nM30\n"
+    assert where(check(tmp_path, text, control)) == [("syntax", 2, column)]
+    assert where([error_of(run(tmp_path, text, control))]) == [("syntax", 2, column)]
+
+
+@pytest.mark.parametrize("block", ["TRANS X -3", "TRANS X + 3", "ATRANS X 3 Y-1", "ROT RPL=-30", "TRANS"])
+def test_frame_short_axis_values_still_read(tmp_path, block):
+    assert check(tmp_path, f"G0 X1\n{block}\nM30\n", TURN) == []
 
 
 def test_gotoc_missing_target_is_only_a_warning(tmp_path):

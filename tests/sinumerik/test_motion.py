@@ -97,6 +97,14 @@ M30
     assert pts == [(11, 5), (11, 5), (0, 1), (-1, 0), (1, 0)]
 
 
+@pytest.mark.parametrize("frame", ["TRANS U1", "ATRANS U1", "TRANS U=1", "TRANS U1 C1"])
+def test_trans_of_a_loose_axis_before_its_first_move(tmp_path, frame):
+    # a machine without strict axes knows U only from its first word; a frame may come first
+    # (this was a KeyError)
+    r = ok(tmp_path, f"{frame}\nG0 U2\nM30\n")
+    assert last(r)["U"] == 3
+
+
 def test_rotated_frame_keeps_unprogrammed_axes_in_program_coordinates(tmp_path):
     r = ok(tmp_path, "G0 X10 Y0\nROT RPL=90\nX5\nM30\n")
     # after ROT the current point (10, 0) is (0, -10) in program coordinates; X5 -> (5, -10)
