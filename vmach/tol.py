@@ -48,6 +48,13 @@ class Tolerances:
     #: Stock removal: cutters are trimmed to the stock's bounding box grown by this much, mm
     #: (exact: the stock never grows; the margin keeps the trimmed faces off the stock).
     trim_margin: float = 0.5
+    #: Stock removal, fan cutters (vmach/stock/fan.py): the most a fan cutter may remove beyond
+    #: the true swept volume, mm — where a rotary run also moves along its rotation axis, the
+    #: hull bridges the twisted surface the tool's side sweeps. The flat face's surface is
+    #: unaffected (the tangent polygon of the sampled faces, as with placed poses).
+    fan_overcut: float = 0.005
+    #: Largest rotation of the tool axis within one fan cutter, degrees.
+    fan_angle: float = 20.0
 
 
 tol = Tolerances()

@@ -48,14 +48,17 @@ def test_straight_slot_removes_exactly_the_minkowski_sum(flat10):
     engine.check(stock.solid)
 
 
-def test_rotary_face_cut_leaves_the_tangent_polygon_and_never_overcuts(face40):
+@pytest.mark.parametrize("fans", [False, True])
+def test_rotary_face_cut_leaves_the_tangent_polygon_and_never_overcuts(face40, fans):
     """A face mill at X = h turned a full turn in steps of delta: the section is the polygon
-    of tangents to the circle of radius h; its corners stand h(sec(delta/2) - 1) proud."""
+    of tangents to the circle of radius h; its corners stand h(sec(delta/2) - 1) proud —
+    with placed poses and with fan cutters alike (M of vmach/stock/fan.py is that polygon)."""
     h, delta = 26.0, 2.0
     c = np.arange(0.0, 360.0 + 1e-9, delta)
     tips, axes = turnmill(h, 0.0, -30.0, c)
-    stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
+    stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, fans=fans)
     stock.cut(face40, tips, axes)
+    assert (stock.stats.fans > 0) == fans
     from vmach.checks.profile import axis_contour
 
     contour = axis_contour(stock.section(-30.0))
@@ -82,8 +85,9 @@ def test_hull_of_two_rotated_poses_overcuts_by_about_r_sin_half_delta(library):
     assert depth == pytest.approx(expected, abs=ts.deviation + 1e-4)
 
 
-def test_stock_stays_valid_and_part_plus_removed_is_the_blank(face40, tmp_path):
-    stock = Stock.from_spec("cylinder:d=60,l=40", batch=8, chord=0.01)
+@pytest.mark.parametrize("fans", [False, True])
+def test_stock_stays_valid_and_part_plus_removed_is_the_blank(face40, tmp_path, fans):
+    stock = Stock.from_spec("cylinder:d=60,l=40", batch=8 if not fans else 1, chord=0.01, fans=fans)
     tips, axes = turnmill(27.0, np.linspace(-5, 5, 30), -10.0, np.linspace(0, 90, 30))
     stock.cut(face40, tips, axes)
     part = stock.solid
@@ -134,14 +138,15 @@ def test_spread_batches_remove_exactly_what_queue_order_does(face40):
     tips, axes = turnmill(26.5, np.linspace(-6, 6, len(c)), -15.0 - 0.01 * np.arange(len(c)), c)
     vols = []
     for spread in (1, 4):
-        stock = Stock.from_spec("cylinder:d=60,l=40", chord=0.01, batch=8, spread=spread)
+        stock = Stock.from_spec("cylinder:d=60,l=40", chord=0.01, batch=8, spread=spread, fans=False)
         stock.cut(face40, tips, axes)
         vols.append(stock.volume)
         assert stock.stats.batches >= 8
     assert vols[1] == pytest.approx(vols[0], rel=1e-12)
 
 
-def test_side_made_surface_is_within_the_tool_chord(library):
+@pytest.mark.parametrize("fans", [False, True])
+def test_side_made_surface_is_within_the_tool_chord(library, fans):
     """The D25 end mill turned a full revolution about the work axis at X = 26: its flat face
     makes the round flank (exact for any polygon) and its side makes the floor at Z = zc - R.
     The polygonised side (tol.tool_chord) puts that floor within the polygon's deviation of the
@@ -155,8 +160,9 @@ def test_side_made_surface_is_within_the_tool_chord(library):
     tips, axes = turnmill(h, 0.0, zc, c)
     ts = tool_solid(tool, tol.tool_chord)
     assert ts.deviation <= tol.tool_chord
-    stock = Stock.from_spec("cylinder:d=60,l=60")
+    stock = Stock.from_spec("cylinder:d=60,l=60", fans=fans)
     stock.cut(tool, tips, axes)
+    assert (stock.stats.fans > 0) == fans
     v, f = engine.to_mesh(stock.removed())
     r = np.hypot(v[:, 0], v[:, 1])
     floor = v[(r > h + 0.5) & (r < 29.0), 2].min()

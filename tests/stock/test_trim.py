@@ -67,13 +67,14 @@ def test_trimmed_copies_are_the_copies_cut_by_the_box(d25_shape):
 def test_trimming_and_covered_poses_do_not_change_the_cut(face40, delta):
     """Rotary steps (placed poses) and translation steps (hulls) in turn, as the facing pass
     of the polygon program: the trimmed cut, with the placed poses that the hulls contain left
-    out, removes exactly what the untrimmed one does."""
+    out, removes exactly what the untrimmed one does. (Fan cutters, which only the trimmed
+    stock makes, are off: they remove more than placed poses, by design.)"""
     c = np.repeat(np.arange(0.0, 40.0, delta), 2)[1:]
     y = np.repeat(np.linspace(-6, 6, len(c) // 2 + 1), 2)[: len(c)]
     tips, axes = turnmill(27.0 + 0.02 * np.arange(len(c)), y, -20.0, c)
     vols = []
     for trim in (False, True):
-        stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, trim=trim, batch=16)
+        stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, trim=trim, batch=16, fans=False)
         stock.cut(face40, tips, axes)
         vols.append(stock.volume)
         if trim:

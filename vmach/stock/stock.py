@@ -25,6 +25,17 @@ from vmach.errors import InputError
 from vmach.stock import engine
 from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, clip, shape
+from vmach.stock.fan import (
+    ESTIMATE_MARGIN,
+    NO_FANS,
+    bridge,
+    hull_planes,
+    material_points,
+    plan_fans,
+    prism,
+    side_lines,
+    side_samples,
+)
 from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
 from vmach.tol import tol
@@ -39,8 +50,9 @@ class CutStats:
     """Counters of a stock's life (seconds, counts).
 
     cutters : cutters made; culled : cutters that miss the stock; covered : placed poses left
-    out because a translation hull contains them; sweep_seconds : making cutters;
-    boolean_seconds : batch booleans.
+    out because a translation hull contains them; fans : fan cutters (:mod:`vmach.stock.fan`)
+    and fan_poses : the poses they cover; fan_overcut_mm : the largest twist bound of a fan
+    used (mm); sweep_seconds : making cutters; boolean_seconds : batch booleans.
     """
 
     paths: int = 0
@@ -48,6 +60,9 @@ class CutStats:
     cutters: int = 0
     culled: int = 0
     covered: int = 0
+    fans: int = 0
+    fan_poses: int = 0
+    fan_overcut_mm: float = 0.0
     batches: int = 0
     sweep_seconds: float = 0.0
     boolean_seconds: float = 0.0
@@ -79,6 +94,9 @@ class Stock:
     progress : bool — show a progress bar on stderr when it is a terminal.
     trim : bool — trim cutters to the box around the stock (exact) and leave out placed poses
         that a translation hull of the same path contains.
+    fans : bool — cut runs of rotary steps of a flat-faced prism tool with fan cutters
+        (:mod:`vmach.stock.fan`) instead of placed poses (only with ``trim``).
+    fan_overcut : float, mm — the most a fan cutter may remove beyond the true sweep.
     spread : int — batches taken from one window of queued cutters (:mod:`vmach.stock.batch`).
     """
 
@@ -87,7 +105,8 @@ class Stock:
 
     def __init__(self, solid: engine.Solid, *, batch: int = 64,
                  cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
-                 progress: bool = False, trim: bool = True, spread: int = 8):
+                 progress: bool = False, trim: bool = True, spread: int = 8, fans: bool = True,
+                 fan_overcut: float = tol.fan_overcut):
         engine.check(solid, "blank")
         self.initial = solid
         self.initial_bounds = engine.bounds(solid)
@@ -95,6 +114,9 @@ class Stock:
         self.spread = max(1, int(spread))
         self.chord = chord
         self.trim = trim
+        self.fans = fans and trim
+        self.fan_overcut = fan_overcut
+        self._blank_planes: np.ndarray | None = None
         self.stats = CutStats()
         self._cells = self._partition(solid, cells)
         self._solid: engine.Solid | None = solid
@@ -199,20 +221,87 @@ class Stock:
         if self.trim:
             poses = _outside_runs(poses, sp.runs)
             self.stats.covered += (len(sp.poses) - len(poses)) * len(ts.pieces)
-        start = np.concatenate([poses, sp.runs[:, 0]]) if len(sp.runs) else poses
-        kind = np.r_[np.zeros(len(poses), int), np.ones(len(sp.runs), int)]
-        which = np.r_[np.arange(len(poses)), np.arange(len(sp.runs))].astype(int)
+        # fans only where poses would be placed: a rotary step whose two poses lie on
+        # translation hulls (a C index between straight cuts) costs nothing as it is
+        placed = np.zeros(len(tips), bool)
+        placed[poses] = True
+        fans = self._fans(ts, tips, axes, (sp.angles > tol.hull_angle) & (placed[:-1] | placed[1:]))
+        if len(fans.runs):
+            poses = _outside_runs(poses, fans.runs)
+            self.stats.fan_poses += int((fans.runs[:, 1] - fans.runs[:, 0] + 1).sum())
+        start = np.concatenate([poses, sp.runs[:, 0].astype(int), fans.runs[:, 0]])
+        kind = np.r_[np.zeros(len(poses), int), np.ones(len(sp.runs), int), np.full(len(fans.runs), 2)]
+        which = np.r_[np.arange(len(poses)), np.arange(len(sp.runs)), np.arange(len(fans.runs))].astype(int)
         order = np.argsort(start, kind="stable")
         for c0 in range(0, len(order), self.CHUNK):
             part = order[c0 : c0 + self.CHUNK]
             chunk_poses = poses[which[part][kind[part] == 0]]
             ends = [run_extremes(tips, r) for r in sp.runs[which[part][kind[part] == 1]]]
-            jobs = [(k, fr[chunk_poses], [place(pts, fr[[a, b]]).reshape(-1, 3) for a, b in ends])
+            fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f])
+                        for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
+            jobs = [(k, fr[chunk_poses], [place(pts, fr[[a, b]]).reshape(-1, 3) for a, b in ends],
+                     fan_jobs if k == 0 else [])
                     for k, pts in enumerate(ts.pieces)]
             self.stats.sweep_seconds += time.perf_counter() - t0
             yield ts, jobs
             t0 = time.perf_counter()
         self.stats.sweep_seconds += time.perf_counter() - t0
+
+    def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray):
+        """Fan runs over the ``rotary`` steps (n-1,) bool of a path
+        (:func:`vmach.stock.fan.plan_fans`; none unless the tool is one flat-faced prism and
+        fans are on)."""
+        pr = prism(ts.pieces[0]) if self.fans and len(ts.pieces) == 1 else None
+        if pr is None:
+            return NO_FANS
+        if self._blank_planes is None:
+            v, _ = engine.to_mesh(self.initial, double=True)
+            self._blank_planes = shape(*engine.hull_mesh(v)).planes
+        unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+        return plan_fans(tips, unit, rotary, pr, self._fan_reach(self.trim_box()), self._blank_planes,
+                         max_overcut=self.fan_overcut / ESTIMATE_MARGIN)
+
+    def _fan_reach(self, box: np.ndarray) -> np.ndarray:
+        lo, hi = box
+        return np.vstack([np.column_stack([np.eye(3), hi]), np.column_stack([-np.eye(3), -lo])])
+
+    def _fan_cutters(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, omega: np.ndarray,
+                     box: np.ndarray, trimmed: list | None = None) -> list[tuple[engine.Solid, np.ndarray]]:
+        """The cutters of one fan run (:mod:`vmach.stock.fan`): [(solid, box (2, 3)), ...],
+        empty when the run misses the trim box. ``trimmed``: the run's poses already clipped.
+
+        H is the hull of the run's poses each trimmed to the box: inside the box it holds
+        every trimmed pose (so the fan removes at least what they would) and lies in the hull
+        of the untrimmed poses. H is then measured: how far it bridges the floor or ceiling the
+        tool's side sweeps (:func:`vmach.stock.fan.bridge`); a run that bridges more than
+        ``fan_overcut`` is split in two and each half made again, a single step that still
+        does is cut as its two placed poses."""
+        unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+        if trimmed is None:
+            trimmed, _ = clip(self._tool_shapes(ts)[0], frames(tips, unit), box[0], box[1])
+        kept = [q for q in trimmed if q is not None]
+        if not kept:
+            return []
+        q = np.concatenate(kept)
+        hull = engine.hull(q)
+        lines = side_lines(tips, unit, omega, prism(ts.pieces[0]), self._fan_reach(box), self._blank_planes)
+        samples = side_samples(lines, 0, len(tips) - 1)
+        gap = 0.0
+        if samples:
+            planes = hull_planes(*engine.to_mesh(hull, double=True))
+            gap = max(bridge(planes, surf, d) for _, surf, d in samples)
+        if gap > self.fan_overcut:
+            if len(tips) > 2:
+                mid = len(tips) // 2
+                a, b = slice(0, mid + 1), slice(mid, None)
+                return (self._fan_cutters(ts, tips[a], axes[a], omega, box, trimmed[a])
+                        + self._fan_cutters(ts, tips[b], axes[b], omega, box, trimmed[b]))
+            return [(engine.hull(k), np.stack([k.min(axis=0), k.max(axis=0)])) for k in kept]
+        m = material_points(tips, unit, omega, q)
+        solid = engine.subtract(hull, [engine.hull(m)]) if m is not None else hull
+        self.stats.fans += 1
+        self.stats.fan_overcut_mm = max(self.stats.fan_overcut_mm, gap)
+        return [(solid, np.stack([q.min(axis=0), q.max(axis=0)]))]
 
     def _make(self, ts: ToolSolid, jobs) -> tuple[list[engine.Solid], list[np.ndarray]]:
         """Cutters of one stretch, in this process, trimmed to :meth:`trim_box`."""
@@ -220,7 +309,17 @@ class Stock:
         boxes: list[np.ndarray] = []
         solids = self._tool_pieces(ts)
         box = self.trim_box() if self.trim else None
-        for k, fr, runs in jobs:
+        for k, fr, runs, fan_jobs in jobs:
+            # every fan's poses trimmed in one go
+            fan_fr = [frames(t, a / np.linalg.norm(a, axis=1, keepdims=True)) for t, a, _ in fan_jobs]
+            trimmed = (clip(self._tool_shapes(ts)[0], np.concatenate(fan_fr), box[0], box[1])[0]
+                       if fan_jobs else [])
+            starts = np.cumsum([0] + [len(f) for f in fan_fr])
+            for f, (tips_f, axes_f, omega) in enumerate(fan_jobs):
+                made = self._fan_cutters(ts, tips_f, axes_f, omega, box, trimmed[starts[f] : starts[f + 1]])
+                self.stats.culled += not made
+                cutters += [c for c, _ in made]
+                boxes += [b for _, b in made]
             if len(fr) and self.trim:
                 trimmed, inside = clip(self._tool_shapes(ts)[k], fr, box[0], box[1])
                 for j, q in enumerate(trimmed):

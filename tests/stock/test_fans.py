@@ -1,0 +1,170 @@
+"""Fan cutters (vmach/stock/fan.py): one solid for a run of rotary steps of a flat-faced tool.
+
+What they must do, tested against answers known independently of them: the surface the flat
+face makes is the tangent polygon of the sampled faces (as with placed poses); they remove at
+least what placed poses remove; where the run also moves along its rotation axis they remove
+more than the true sweep by no more than the bound they report, and that bound is what a long
+run would exceed; and they are not used where the hull could bridge material no pose reaches.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.stock.conftest import turnmill
+from vmach.stock import Stock, engine
+from vmach.stock.fan import EPS, plan_fans, prism
+from vmach.tol import tol
+from vmach.tooling import Tool, tool_solid
+
+FINE = 0.0005   # tool polygon fine enough that the twist, not the polygon, dominates
+
+
+def test_flat_faced_prisms_are_recognised(library):
+    for name in ("GLOD D25", "GLOD D40", "GLOD D32"):
+        ts = tool_solid(library.lookup(name), 0.01)
+        p = prism(ts.pieces[0])
+        assert p is not None and p.radius == pytest.approx(ts.pieces[0][:, :2].max(), abs=0.02)
+        assert p.length == pytest.approx(ts.length)
+    for tool in (library.lookup("GLOD D16_15"),
+                 Tool(name="ball", kind="ball", diameter=10.0, cutting_length=20.0),
+                 Tool(name="bull", kind="bull", diameter=10.0, corner_radius=2.0, cutting_length=20.0)):
+        assert prism(tool_solid(tool, 0.01).pieces[0]) is None, tool.name
+
+
+def floor_hits(solid, phis, rs, top=10.0):
+    """Z of the first surface below (r, phi) seen from above, (len(phis), len(rs))."""
+    out = np.full((len(phis), len(rs)), np.nan)
+    for i, phi in enumerate(phis):
+        for j, r in enumerate(rs):
+            x, y = r * np.cos(phi), r * np.sin(phi)
+            hit = solid.ray_cast((x, y, top), (x, y, -60.0))
+            if hit:
+                out[i, j] = hit[0].position[2]
+    return out
+
+
+def true_floor(phis, rs, h, radius, c_deg, z_tip):
+    """The floor a round end mill's side cuts when its axis sweeps continuously through the
+    poses (C1 in degrees, tip Z), radial at X = h: the lowest point of the tool over
+    (r, phi), found over 0.01 deg steps of the interpolated motion."""
+    cd = np.arange(c_deg[0], c_deg[-1], 0.01)
+    zd = np.interp(cd, c_deg, z_tip)
+    p = np.stack([np.outer(np.cos(phis), rs), np.outer(np.sin(phis), rs)], -1)
+    best = np.full(p.shape[:2], np.inf)
+    for c, z in zip(np.radians(cd), zd, strict=True):
+        d = np.abs(-p[..., 0] * np.sin(c) + p[..., 1] * np.cos(c))
+        along = p[..., 0] * np.cos(c) + p[..., 1] * np.sin(c)
+        zb = np.where((d < radius) & (along >= h), z - np.sqrt(np.maximum(radius**2 - d**2, 0)), np.inf)
+        best = np.minimum(best, zb)
+    return best
+
+
+@pytest.fixture(scope="module")
+def helix_cut(library):
+    """The D25 end mill on a 300 deg helix (C +1.713 deg and Z -0.01 mm per pose, X = 26), the
+    finishing pass of the polygon program on a round: fans (with the default bound and with
+    none), placed poses, and the true floor its side cuts."""
+    tool = library.lookup("GLOD D25")
+    h, step, pitch = 26.0, 1.713, 0.01
+    c = np.arange(0.0, 300.0, step)
+    z = -5.0 - pitch * np.arange(len(c))
+    tips, axes = turnmill(h, 0.0, z, c)
+    phis = np.radians(np.linspace(5, 295, 400))
+    rs = np.linspace(h + 0.5, 29.5, 7)
+    out = {"tool": tool, "true": true_floor(phis, rs, h, tool.radius, c, z)}
+    for name, kw in (("fans", {}), ("unbounded", {"fan_overcut": 1.0}), ("placed", {"fans": False})):
+        stock = Stock.from_spec("cylinder:d=60,l=60", chord=FINE, **kw)
+        stock.cut(tool, tips, axes)
+        out[name] = (stock, floor_hits(stock.solid, phis, rs))
+    return out
+
+
+def test_fans_overcut_the_side_made_floor_by_no_more_than_their_bound(helix_cut):
+    dev = tool_solid(helix_cut["tool"], FINE).deviation
+    stock, hits = helix_cut["fans"]
+    assert stock.stats.fans > 10
+    bound = stock.stats.fan_overcut_mm
+    assert 0 < bound <= tol.fan_overcut
+    over = helix_cut["true"] - hits          # > 0: the floor is cut deeper than the tool went
+    assert np.nanmax(over) <= bound + dev + 1e-6
+    # ... and the bound is not idle: the twist is really bridged
+    assert np.nanmax(over) >= 0.5 * bound
+
+
+def test_an_unbounded_fan_overcuts_more_and_says_so(helix_cut):
+    """Without the twist check the runs grow to tol.fan_angle and the hull bridges the floor by
+    twice the default bound: the check is what keeps the error within it."""
+    dev = tool_solid(helix_cut["tool"], FINE).deviation
+    stock, hits = helix_cut["unbounded"]
+    over = np.nanmax(helix_cut["true"] - hits)
+    assert over > 2 * tol.fan_overcut
+    assert over <= stock.stats.fan_overcut_mm + dev + 1e-6     # the measured bound still holds
+
+
+def test_placed_poses_never_cut_below_the_true_floor(helix_cut):
+    dev = tool_solid(helix_cut["tool"], FINE).deviation
+    _, hits = helix_cut["placed"]
+    assert np.nanmax(helix_cut["true"] - hits) <= dev + 1e-6
+
+
+def test_fans_remove_at_least_what_placed_poses_remove(helix_cut):
+    fans, _ = helix_cut["fans"]
+    placed, _ = helix_cut["placed"]
+    # M is moved out by EPS: the fans' part may keep that much on the surface the faces made
+    # (136 mm of arc x 25 mm of face width < 5000 mm²)
+    left_by_fans = engine.volume(engine.subtract(fans.solid, [placed.solid]))
+    assert left_by_fans < EPS * 5000
+    assert engine.volume(placed.solid) - engine.volume(fans.solid) > 1.0   # the cusps they fill
+
+
+def test_the_flank_is_the_tangent_polygon_of_the_sampled_faces(helix_cut):
+    """Radial rays at the flank (the face made it): the fan cut and the placed cut agree to
+    the eps by which M is moved out."""
+    fans, _ = helix_cut["fans"]
+    placed, _ = helix_cut["placed"]
+    for z in (-3.0, -1.0):
+        for phi in np.radians(np.linspace(10, 290, 50)):
+            o, e = (40 * np.cos(phi), 40 * np.sin(phi), z), (0.0, 0.0, z)
+            a, b = fans.solid.ray_cast(o, e)[0].distance, placed.solid.ray_cast(o, e)[0].distance
+            assert a == pytest.approx(b, abs=1e-5)
+
+
+def _plan(tips, axes, tool, **kw):
+    stock = Stock.from_spec("cylinder:d=60,l=60")
+    pr = prism(tool_solid(tool, 0.01).pieces[0])
+    lo, hi = stock.trim_box()
+    box = np.vstack([np.column_stack([np.eye(3), hi]), np.column_stack([-np.eye(3), -lo])])
+    from vmach.stock.clip import shape
+
+    blank = shape(*engine.hull_mesh(engine.to_mesh(stock.initial, double=True)[0])).planes
+    return plan_fans(tips, axes, np.ones(len(tips) - 1, bool), pr, box, blank, **kw)
+
+
+def test_a_concave_chain_is_not_fanned(face40):
+    """Inside a bore the face looks outward: the tangent chain is concave, the hull would
+    bridge material that no pose reaches."""
+    c = np.arange(0.0, 40.0, 2.0)
+    tips, axes = turnmill(20.0, 0.0, -20.0, c)
+    assert len(_plan(tips, axes, face40).runs) > 0          # outside: fanned
+    assert len(_plan(tips, -axes, face40).runs) == 0        # inside a bore, face outward
+
+
+def test_runs_stop_where_the_rotation_reverses_or_the_axis_tilts(face40):
+    c = np.r_[np.arange(0.0, 20.0, 2.0), np.arange(20.0, 0.0, -2.0)]
+    tips, axes = turnmill(26.0, 0.0, -20.0, c)
+    runs = _plan(tips, axes, face40).runs
+    k = int(np.argmax(c))
+    assert len(runs) and all(b <= k or a >= k for a, b in runs)
+    tilted = axes + np.array([0.0, 0.0, 0.3])
+    tilted /= np.linalg.norm(tilted, axis=1, keepdims=True)
+    assert len(_plan(tips, tilted, face40).runs) == 0
+
+
+def test_runs_keep_within_the_angle_limit(face40):
+    c = np.arange(0.0, 120.0, 1.0)
+    tips, axes = turnmill(26.0, 0.0, -20.0, c)
+    runs = _plan(tips, axes, face40, max_angle=10.0).runs
+    assert len(runs) >= 12 and np.all(np.diff(runs, axis=1) <= 10)
+    assert runs[0, 0] == 0 and runs[-1, 1] == len(c) - 1 and np.all(runs[1:, 0] == runs[:-1, 1])

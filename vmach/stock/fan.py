@@ -1,0 +1,375 @@
+"""Fan cutters: one solid for a run of rotary steps of a flat-faced tool.
+
+A rotary path is otherwise cut by placing the tool at every sampled pose (:mod:`vmach.stock.sweep`):
+exact but slow, because the booleans pay for every placed copy crossing its neighbours, and the
+side of the tool leaves cusps between copies. Where the motion allows it, a run of poses
+``a..b`` is cut instead by one *fan cutter*
+
+    F = H \\ M,   H = hull(tool at poses a..b) ∩ trim box,   M = ∩_k {x : x·n_k <= h_k + ε}
+
+with ``n_k`` the tool axis and ``h_k = tip_k·n_k`` the plane of the tool's flat end face at
+pose k: ``M`` is the material below every sampled face plane, ``F`` the part of the hull above
+at least one of them.
+
+**Why it is right.** The hull of two rotated copies of a flat-faced tool overcuts in a wedge
+*below* the faces (about R·sin(δ/2) deep, :func:`vmach.stock.sweep.hull_overcut`); removing
+``M`` takes exactly that wedge away, so the surface the faces make is the tangent polygon of the
+sampled face planes — the same surface placed poses make, with the same scallop bound
+(:func:`vmach.stock.sweep.scallop_bound`). Above the face chain, between consecutive poses, the
+hull fills what the tool's body and side sweep between the samples (placed poses leave that
+as cusps). The hull exceeds the true swept volume only where the motion twists: when the tool
+also moves along the rotation axis ω, the lines of the tool's side at its ±ω extremes sweep a
+helicoid-like ruled surface, and the hull bridges it by at most a quarter of the quad's twist,
+``|det(A1−A0, B0−A0, B1−A0)| / (4·|(A1−A0)×(B0−A0)|)`` for two such lines A, B (for a helix
+of pitch p per radian at radius r, length L of the line inside the blank: ``p·Θ·L/(4r)``). A
+run is kept only while that bound, over every pair of its poses, stays within
+``tol.fan_overcut``; this is the only place vmach may remove more than the true sweep, and
+by no more than that.
+
+**When it applies** (checked per run, else the poses are placed as before):
+
+- the tool is a single convex prism with its end face at z = 0 (flat end mill, face mill);
+- the axis turns about one fixed direction ω (to 1e-6) and stays perpendicular to it, over
+  at least two steps (a single step always turns about some direction: the tilted axis of
+  a cone would pass);
+- the face chain is convex and made by the faces themselves: along each face line (in the
+  plane perpendicular to ω) the creases with its neighbours come in order, and lie inside
+  that pose's face. A concave chain (the tool inside a bore, a rotation that reverses) fails
+  this, because there the hull would bridge material no pose reaches;
+- the run turns the axis by at most ``tol.fan_angle``.
+
+Lengths mm, angles degrees unless named otherwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError
+
+from vmach.tol import tol
+
+#: M's face planes are moved this far outward (mm): the cutter is ε smaller than H \ M, so the
+#: faces of H that lie in a sampled face plane (the first and last pose) are never nearly
+#: coplanar with M's.
+EPS = 1e-6
+PARALLEL = 1e-6   # rotation axes agreeing to this (unit vectors), axes perpendicular to ω
+#: Runs are planned on an estimate (:func:`_gap`, the hull of the side's lines only) that
+#: came within 0.6–1.3× of the made cutter's measured bridge on the polygon program; they are
+#: planned to 1/ESTIMATE_MARGIN of the limit so that few must be split once measured.
+ESTIMATE_MARGIN = 1.3
+
+
+@dataclass(frozen=True)
+class Prism:
+    """A tool piece that is a right prism on the tool axis: end face at z = 0.
+
+    radius : float, mm — vertex radius of its polygon (>= the true radius); length : float, mm.
+    """
+
+    radius: float
+    length: float
+
+
+def prism(piece: np.ndarray) -> Prism | None:
+    """The piece (k, 3) as a :class:`Prism`, or None if it is not one (a cone, a ball...).
+    Points on the axis (the centres of the end faces) are allowed."""
+    p = np.asarray(piece, dtype=float)
+    z = p[:, 2]
+    r = np.hypot(p[:, 0], p[:, 1])
+    top = float(z.max())
+    scale = max(1.0, float(r.max()), top)
+    ring = r > 1e-9 * scale
+    if abs(float(z.min())) > 1e-9 * scale or top <= 0 or not ring.any() or np.ptp(r[ring]) > 1e-9 * scale:
+        return None
+    if not np.all((np.abs(z) <= 1e-9 * scale) | (np.abs(z - top) <= 1e-9 * scale)):
+        return None
+    return Prism(float(r.max()), top)
+
+
+@dataclass(frozen=True)
+class FanPlan:
+    """runs : (f, 2) int — [first, last] pose of each fan run; overcut : (f,) float, mm — the
+    twist bound of each run; omega : (f, 3) float — its rotation axis."""
+
+    runs: np.ndarray
+    overcut: np.ndarray
+    omega: np.ndarray
+
+
+NO_FANS = FanPlan(np.zeros((0, 2), int), np.zeros(0), np.zeros((0, 3)))
+
+def _exit(p: np.ndarray, d: np.ndarray, planes: np.ndarray, limit: float) -> np.ndarray:
+    """Distance along unit directions d (m, 3) from points p (m, 3) to where the rays leave
+    the convex region {x : n·x <= c} (planes (f, 4)), clipped to [0, limit]. A ray that
+    starts outside and enters later gets its exit distance (the segment then covers the
+    inside part, and more)."""
+    if len(p) > 1024:
+        return np.concatenate([_exit(p[i : i + 1024], d[i : i + 1024], planes, limit)
+                               for i in range(0, len(p), 1024)])
+    nd = d @ planes[:, :3].T                                   # (m, f)
+    slack = planes[:, 3][None, :] - p @ planes[:, :3].T        # (m, f)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(nd > 1e-15, slack / nd, np.inf)
+    return np.clip(t.min(axis=1), 0.0, limit)
+
+
+def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Prism,
+              reach: np.ndarray, blank: np.ndarray, *, max_angle: float = tol.fan_angle,
+              max_overcut: float = tol.fan_overcut) -> FanPlan:
+    """Split the rotary steps of a path into fan runs.
+
+    tips, axes : (n, 3) float — poses (work frame, unit axes). rotary : (n-1,) bool — steps
+    that turn the axis. tool : the prism. reach : (f, 4) float — planes ``n·x <= c`` of the
+    region cutters are trimmed to (the trim box, or a larger region). blank : (g, 4) float —
+    planes of a convex region that holds the stock for good (the blank's hull): overcut only
+    counts inside it. Runs are grown greedily from their first pose; steps not in a run are left to
+    placed poses.
+    """
+    tips = np.asarray(tips, dtype=float)
+    a = np.asarray(axes, dtype=float)
+    n = len(tips)
+    if n < 2 or not np.asarray(rotary).any():
+        return NO_FANS
+    cross = np.cross(a[:-1], a[1:])
+    sin = np.linalg.norm(cross, axis=1)
+    angle = np.degrees(np.arctan2(sin, np.einsum("ij,ij->i", a[:-1], a[1:])))
+    turn = np.asarray(rotary, bool) & (sin > 1e-12)
+    w = np.zeros_like(cross)
+    w[turn] = cross[turn] / sin[turn][:, None]
+    s_fwd, s_back = _creases(tips, a, w)
+    r = tool.radius
+    # a step is a fan candidate when it turns, both axes are perpendicular to its rotation
+    # axis, and the crease of the two face lines lies inside both faces
+    ok = turn & (np.abs(s_fwd) <= r) & (np.abs(s_back) <= r)
+    ok &= np.abs(np.einsum("ij,ij->i", a[:-1], w)) <= PARALLEL
+    ok &= np.abs(np.einsum("ij,ij->i", a[1:], w)) <= PARALLEL
+    # steps that may follow the previous one in the same run: same rotation axis, and on the
+    # shared face line the crease with the pose before comes before the crease with the next
+    chain = np.zeros(len(ok), bool)
+    chain[1:] = (ok[1:] & ok[:-1] & (np.linalg.norm(w[1:] - w[:-1], axis=1) <= PARALLEL)
+                 & (s_back[:-1] <= s_fwd[1:] + 1e-9))
+    runs: list[tuple[int, int]] = []
+    over: list[float] = []
+    sides: dict[tuple, SideLines] = {}
+    guess = 8
+    i = 0
+    while i < n - 1:
+        if not ok[i]:
+            i += 1
+            continue
+        # longest candidate: chained steps within the angle limit
+        j = i + 1
+        total = float(angle[i])
+        while (j < n - 1 and chain[j] and total + angle[j] <= max_angle
+               and np.linalg.norm(w[j] - w[i]) <= PARALLEL):
+            total += float(angle[j])
+            j += 1
+        key = tuple(np.round(w[i], 9))
+        if key not in sides:
+            sides[key] = side_lines(tips, a, w[i], tool, reach, blank)
+        lines = sides[key]
+        # the longest run i..k (k <= j) whose estimate stays within max_overcut
+        lo, best = _longest(lines, i, j, guess, max_overcut)
+        if lo - i < 2:
+            # a run needs two steps: only then do its axes span the plane it turns in, and
+            # has it a face between two creases whose order tells a convex chain
+            i += 1
+            continue
+        runs.append((i, lo))
+        over.append(float(best))
+        guess = lo - i
+        i = lo
+    if not runs:
+        return NO_FANS
+    ru = np.asarray(runs, dtype=int)
+    return FanPlan(ru, np.asarray(over, dtype=float), w[ru[:, 0]])
+
+
+def _longest(lines: SideLines, i: int, j: int, guess: int, limit: float) -> tuple[int, float]:
+    """Last pose k of the longest run i..k (k <= j) whose estimated bridge (:func:`_gap`)
+    stays within ``limit``, and that estimate; (i, 0) when not even one step fits. The hull
+    only grows with the run, so the estimate does too: stepping from ``guess`` steps (the
+    last run's length; consecutive runs are alike), bisection when that does not settle."""
+    k = min(j, i + max(1, guess))
+    e = _gap(lines, i, k)
+    if e <= limit:                       # k fits: try one more, then widen
+        lo, best, hi = k, e, j + 1
+        step = 1
+        while lo < j:
+            k = min(j, lo + step)
+            e = _gap(lines, i, k)
+            if e > limit:
+                hi = k
+                break
+            lo, best, step = k, e, step * 2
+    else:                                # k does not: try one less, then narrow
+        lo, best, hi = i, 0.0, k
+        if k - 1 > i:
+            e = _gap(lines, i, k - 1)
+            if e <= limit:
+                return k - 1, e
+            hi = k - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        e = _gap(lines, i, mid)
+        if e > limit:
+            hi = mid
+        else:
+            lo, best = mid, e
+    return lo, best
+
+
+@dataclass(frozen=True)
+class SideLines:
+    """The tool's side lines at ±omega for every pose of a path (see :func:`side_samples`):
+    starts p, ends q (2, n, 3) — from the face to where the cutter ends; inside (2, n) —
+    length of each line inside the blank; axes (n, 3); omega (3,)."""
+
+    p: np.ndarray
+    q: np.ndarray
+    inside: np.ndarray
+    axes: np.ndarray
+    omega: np.ndarray
+
+
+def side_lines(tips: np.ndarray, axes: np.ndarray, omega: np.ndarray, tool: Prism,
+               reach: np.ndarray, blank: np.ndarray) -> SideLines:
+    p = np.stack([tips + tool.radius * omega, tips - tool.radius * omega])
+    q = np.stack([pk + axes * _exit(pk, axes, reach, tool.length)[:, None] for pk in p])
+    inside = np.stack([_exit(pk, axes, blank, tool.length) for pk in p])
+    return SideLines(p, q, inside, axes, omega)
+
+
+def side_samples(lines: SideLines, i: int, j: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The surfaces the tool's side sweeps at its ±omega extremes over poses i..j, sampled.
+
+    The side's extreme lines of consecutive poses span a ruled surface — the floor or ceiling
+    the side cuts. The lines run from the face to where the cutter ends (the trim box); the
+    surface is sampled on the part of the lines inside the blank (overcut elsewhere removes
+    nothing), at 6 points along each line, denser toward where it leaves the blank (the hull
+    bridges most far out), and 3 across each step. The true sweep between two poses lies
+    beyond the interpolated surface (the side is curved across), so the samples are at or
+    inside it.
+
+    Returns, for each of the two sides that moves along omega: (line end points (2m, 3),
+    samples (k, 3), outward direction (3,) — away from the tool)."""
+    out = []
+    s = np.array([0.0, 0.25, 0.5, 0.75, 0.9, 1.0])
+    t = np.array([0.0, 0.5, 1.0])[:, None, None, None]
+    ax = lines.axes[i : j + 1]
+    for side, sign in enumerate((1.0, -1.0)):
+        p, q = lines.p[side, i : j + 1], lines.q[side, i : j + 1]
+        ends = np.concatenate([p, q])
+        if np.ptp(ends @ lines.omega) <= 1e-9:
+            continue        # a planar floor: the hull is exact there
+        along = p[:, None, :] + ax[:, None, :] * (lines.inside[side, i : j + 1, None] * s)[..., None]
+        surf = (along[:-1][None] * (1 - t) + along[1:][None] * t).reshape(-1, 3)
+        out.append((ends, surf, sign * lines.omega))
+    return out
+
+
+def bridge(planes: np.ndarray, samples: np.ndarray, direction: np.ndarray) -> float:
+    """How far a convex solid {x : n·x <= c} (planes (f, 4)) reaches beyond the samples
+    (k, 3) along ``direction``, mm: the largest distance from a sample to the solid's boundary
+    along it (0 when no sample is inside)."""
+    toward = planes[:, :3] @ direction
+    slack = planes[:, 3][None, :] - samples @ planes[:, :3].T
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lam = np.where(toward[None, :] > 1e-12, slack / toward[None, :], np.inf)
+    reach = lam.min(axis=1)
+    inside = (slack >= -1e-9).all(axis=1) & np.isfinite(reach)
+    return float(reach[inside].max(initial=0.0))
+
+
+def _gap(lines: SideLines, i: int, j: int) -> float:
+    """Estimate of how far the hull of poses i..j bridges the side's twisted floor
+    (:func:`bridge` of the hull of the side lines only, scipy/Qhull), mm — used to choose
+    runs; the cutter's own hull is measured once made."""
+    worst = 0.0
+    for pts, surf, direction in side_samples(lines, i, j):
+        try:
+            hull = ConvexHull(pts)
+        except QhullError:
+            continue        # degenerate (collinear lines): nothing is bridged
+        planes = np.column_stack([hull.equations[:, :3], -hull.equations[:, 3]])
+        worst = max(worst, bridge(planes, surf, direction))
+    return worst
+
+
+def hull_planes(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Face planes (f, 4) ``n·x <= c`` of a convex triangle mesh (outward faces)."""
+    a, b, c = vertices[faces[:, 0]], vertices[faces[:, 1]], vertices[faces[:, 2]]
+    n = np.cross(b - a, c - a)
+    length = np.linalg.norm(n, axis=1)
+    good = length > 1e-14
+    n = n[good] / length[good][:, None]
+    return np.column_stack([n, np.einsum("ij,ij->i", n, a[good])])
+
+
+def _creases(tips: np.ndarray, axes: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each step k -> k+1: where the face lines k and k+1 cross (in the plane
+    perpendicular to the step's rotation axis w_k), as offsets along line k from tip k
+    (s_fwd) and along line k+1 from tip k+1 (s_back), in the direction of travel t = w × n.
+
+    Line k is {tip_k + s·t_k}; it meets plane k+1 where (tip_k + s·t_k)·n_{k+1} = h_{k+1},
+    and t_k·n_{k+1} = sin δ (t_{k+1}·n_k = −sin δ). Steps without a turn get +inf."""
+    t0 = np.cross(w, axes[:-1])
+    t1 = np.cross(w, axes[1:])
+    h0 = np.einsum("ij,ij->i", tips[:-1], axes[:-1])
+    h1 = np.einsum("ij,ij->i", tips[1:], axes[1:])
+    d0 = np.einsum("ij,ij->i", t0, axes[1:])
+    d1 = np.einsum("ij,ij->i", t1, axes[:-1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_fwd = np.where(d0 > 1e-15, (h1 - np.einsum("ij,ij->i", tips[:-1], axes[1:])) / d0, np.inf)
+        s_back = np.where(d1 < -1e-15, (h0 - np.einsum("ij,ij->i", tips[1:], axes[:-1])) / d1, np.inf)
+    return s_fwd, s_back
+
+
+def _basis(omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Orthonormal u, v with u × v = omega."""
+    u = np.cross(omega, [1.0, 0.0, 0.0])
+    if np.linalg.norm(u) < 0.5:
+        u = np.cross(omega, [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    return u, np.cross(omega, u)
+
+
+def _clip_halfplane(poly: np.ndarray, n: np.ndarray, c: float) -> np.ndarray:
+    """Convex polygon (q, 2) ∩ {p : n·p <= c} (Sutherland–Hodgman, one edge)."""
+    d = poly @ n - c
+    inside = d <= 0
+    if inside.all():
+        return poly
+    if not inside.any():
+        return poly[:0]
+    out = []
+    q = len(poly)
+    for k in range(q):
+        j = (k + 1) % q
+        if inside[k]:
+            out.append(poly[k])
+        if inside[k] != inside[j]:
+            out.append(poly[k] + (poly[j] - poly[k]) * (d[k] / (d[k] - d[j])))
+    return np.asarray(out)
+
+
+def material_points(tips: np.ndarray, axes: np.ndarray, omega: np.ndarray, around: np.ndarray,
+                    margin: float = 1.0, eps: float = EPS) -> np.ndarray | None:
+    """Vertices (k, 3) of M — the material below every face plane of a run, moved out by
+    ``eps`` — within a box ``margin`` around the points ``around`` (m, 3) (the hull's), so
+    that H \\ M is the fan cutter. All face planes contain omega, so M is a prism along it:
+    the face lines clip a rectangle in the plane perpendicular to omega. None if empty."""
+    u, v = _basis(omega)
+    pu, pv, pw = around @ u, around @ v, around @ omega
+    lo, hi = np.array([pu.min(), pv.min()]) - margin, np.array([pu.max(), pv.max()]) + margin
+    poly = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
+    for nk, ck in zip(np.column_stack([axes @ u, axes @ v]),
+                      np.einsum("ij,ij->i", tips, axes) + eps, strict=True):
+        poly = _clip_halfplane(poly, nk, ck)
+        if len(poly) < 3:
+            return None
+    base = poly[:, :1] * u + poly[:, 1:] * v
+    w0, w1 = pw.min() - margin, pw.max() + margin
+    return np.vstack([base + w0 * omega, base + w1 * omega])
