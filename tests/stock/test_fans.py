@@ -134,8 +134,7 @@ def test_the_flank_is_the_tangent_polygon_of_the_sampled_faces(helix_cut):
 def _plan(tips, axes, tool, **kw):
     stock = Stock.from_spec("cylinder:d=60,l=60")
     pr = prism(tool_solid(tool, 0.01).pieces[0])
-    lo, hi = stock.trim_box()
-    box = np.vstack([np.column_stack([np.eye(3), hi]), np.column_stack([-np.eye(3), -lo])])
+    box = np.broadcast_to(stock.trim_box(), (len(tips), 2, 3))
     from vmach.stock.clip import shape
 
     blank = shape(*engine.hull_mesh(engine.to_mesh(stock.initial, double=True)[0])).planes

@@ -121,8 +121,8 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     """Split the rotary steps of a path into fan runs.
 
     tips, axes : (n, 3) float — poses (work frame, unit axes). rotary : (n-1,) bool — steps
-    that turn the axis. tool : the prism. reach : (f, 4) float — planes ``n·x <= c`` of the
-    region cutters are trimmed to (the trim box, or a larger region). blank : (g, 4) float —
+    that turn the axis. tool : the prism. reach : (n, 2, 3) float — the box each pose's cutter
+    is trimmed to (lo, hi). blank : (g, 4) float —
     planes of a convex region that holds the stock for good (the blank's hull): overcut only
     counts inside it. Runs are grown greedily from their first pose; steps not in a run are left to
     placed poses.
@@ -236,17 +236,27 @@ class SideLines:
 
 def side_lines(tips: np.ndarray, axes: np.ndarray, omega: np.ndarray, tool: Prism,
                reach: np.ndarray, blank: np.ndarray) -> SideLines:
+    """Side lines of every pose; ``reach`` (n, 2, 3) — the box each pose's cutter is trimmed
+    to (lo, hi), where the lines end; ``blank`` (g, 4) — the planes of the blank's hull."""
     p = np.stack([tips + tool.radius * omega, tips - tool.radius * omega])
-    q = np.stack([pk + axes * _exit(pk, axes, reach, tool.length)[:, None] for pk in p])
+    q = np.stack([pk + axes * _exit_box(pk, axes, reach, tool.length)[:, None] for pk in p])
     inside = np.stack([_exit(pk, axes, blank, tool.length) for pk in p])
     return SideLines(p, q, inside, axes, omega)
+
+
+def _exit_box(p: np.ndarray, d: np.ndarray, boxes: np.ndarray, limit: float) -> np.ndarray:
+    """Distance along unit directions d (m, 3) from points p (m, 3) to where the rays leave
+    their boxes (m, 2, 3), clipped to [0, limit]."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(d > 1e-15, (boxes[:, 1] - p) / d, np.where(d < -1e-15, (boxes[:, 0] - p) / d, np.inf))
+    return np.clip(t.min(axis=1), 0.0, limit)
 
 
 def side_samples(lines: SideLines, i: int, j: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """The surfaces the tool's side sweeps at its ±omega extremes over poses i..j, sampled.
 
     The side's extreme lines of consecutive poses span a ruled surface — the floor or ceiling
-    the side cuts. The lines run from the face to where the cutter ends (the trim box); the
+    the side cuts. The lines run from the face to where the cutter ends (its trim box); the
     surface is sampled on the part of the lines inside the blank (overcut elsewhere removes
     nothing), at 6 points along each line, denser toward where it leaves the blank (the hull
     bridges most far out), and 3 across each step. The true sweep between two poses lies

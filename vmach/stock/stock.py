@@ -36,6 +36,7 @@ from vmach.stock.fan import (
     side_lines,
     side_samples,
 )
+from vmach.stock.slabs import Slabs
 from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
 from vmach.tol import tol
@@ -71,6 +72,25 @@ class CutStats:
 _IDENTITY = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
 
 
+def _clip_grouped(sh: Shape, fr: np.ndarray, boxes: np.ndarray):
+    """:func:`vmach.stock.clip.clip` of copies (m, 3, 4) each to its own box (m, 2, 3): copies
+    that share a box (most: boxes are rounded to a grid) are clipped together."""
+    out: list = [None] * len(fr)
+    inside = np.zeros(len(fr), bool)
+    if len(fr) == 0:
+        return out, inside
+    keys, which = np.unique(boxes.reshape(len(boxes), 6), axis=0, return_inverse=True)
+    for g, key in enumerate(keys):
+        rows = np.nonzero(which.ravel() == g)[0]
+        if np.any(key[:3] > key[3:]):
+            continue                                    # no material in the range: culled
+        pts, ins = clip(sh, fr[rows], key[:3], key[3:])
+        for r, q, i in zip(rows, pts, ins, strict=True):
+            out[r] = q
+            inside[r] = i
+    return out, inside
+
+
 def _outside_runs(poses: np.ndarray, runs: np.ndarray) -> np.ndarray:
     """Placed poses not on a translation run: the run's hull (the tool swept along the run's
     segment, same axis) already contains the tool at every pose of the run."""
@@ -101,6 +121,8 @@ class Stock:
     """
 
     CHUNK = 256  # poses swept at a time (cutters are queued, and may be subtracted, as they come)
+    SLAB_REFRESH = 32  # batches after which the trim slabs are taken again
+    SLABS = True       # trim to the stock's extent per Z range (False: one box, for comparison)
     GROUP = 16   # consecutive cutters kept together in a spread batch
 
     def __init__(self, solid: engine.Solid, *, batch: int = 64,
@@ -117,6 +139,8 @@ class Stock:
         self.fans = fans and trim
         self.fan_overcut = fan_overcut
         self._blank_planes: np.ndarray | None = None
+        self._slabs: Slabs | None = None
+        self._slabs_at = -1         # batches done when the slabs were taken
         self.stats = CutStats()
         self._cells = self._partition(solid, cells)
         self._solid: engine.Solid | None = solid
@@ -124,7 +148,7 @@ class Stock:
         self._progress = progress and sys.stderr.isatty()
         self._piece_cache: dict[int, list[engine.Solid]] = {}
         self._shape_cache: dict[int, list[Shape]] = {}
-        self._local_seconds = 0.0
+        self._union_seconds = 0.0   # the cells' union into one solid
 
     @classmethod
     def from_spec(cls, spec: str, **kw) -> Stock:
@@ -258,12 +282,31 @@ class Stock:
             v, _ = engine.to_mesh(self.initial, double=True)
             self._blank_planes = shape(*engine.hull_mesh(v)).planes
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-        return plan_fans(tips, unit, rotary, pr, self._fan_reach(self.trim_box()), self._blank_planes,
+        placed = place(ts.pieces[0], frames(tips, unit))                  # (n, p, 3)
+        reach = self._boxes(placed[:, :, 2].min(axis=1), placed[:, :, 2].max(axis=1), fresh=True)
+        return plan_fans(tips, unit, rotary, pr, reach, self._blank_planes,
                          max_overcut=self.fan_overcut / ESTIMATE_MARGIN)
 
-    def _fan_reach(self, box: np.ndarray) -> np.ndarray:
-        lo, hi = box
-        return np.vstack([np.column_stack([np.eye(3), hi]), np.column_stack([-np.eye(3), -lo])])
+    def _boxes(self, zlo: np.ndarray, zhi: np.ndarray, fresh: bool = False) -> np.ndarray:
+        """Trim boxes (k, 2, 3) for cutters spanning Z ranges [zlo, zhi] (k,): the stock's
+        extent within the range (:mod:`vmach.stock.slabs`), inside :meth:`trim_box`. The
+        slabs are taken again after every SLAB_REFRESH batches, and for a new path
+        (``fresh``) when anything was subtracted since (a stale snapshot is only looser: the
+        stock shrinks)."""
+        done = sum(c.batches for c in self._cells)
+        stale = done - self._slabs_at >= self.SLAB_REFRESH or (fresh and done > self._slabs_at)
+        if self.SLABS and (self._slabs is None or stale):
+            meshes = [engine.to_mesh(c.solid, double=True) for c in self._cells
+                      if not engine.is_empty(c.solid)]
+            if meshes:
+                offset = np.cumsum([0] + [len(m[0]) for m in meshes])[:-1]
+                faces = [m[1] + o for m, o in zip(meshes, offset, strict=True)]
+                self._slabs = Slabs.from_mesh(np.concatenate([m[0] for m in meshes]), np.concatenate(faces))
+            self._slabs_at = done
+        outer = self.trim_box()
+        if self._slabs is None or not self.SLABS:
+            return np.broadcast_to(outer, (len(zlo), 2, 3)).copy()
+        return self._slabs.boxes(zlo, zhi, outer)
 
     def _fan_cutters(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, omega: np.ndarray,
                      box: np.ndarray, trimmed: list | None = None) -> list[tuple[engine.Solid, np.ndarray]]:
@@ -284,7 +327,8 @@ class Stock:
             return []
         q = np.concatenate(kept)
         hull = engine.hull(q)
-        lines = side_lines(tips, unit, omega, prism(ts.pieces[0]), self._fan_reach(box), self._blank_planes)
+        lines = side_lines(tips, unit, omega, prism(ts.pieces[0]), np.broadcast_to(box, (len(tips), 2, 3)),
+                           self._blank_planes)
         samples = side_samples(lines, 0, len(tips) - 1)
         gap = 0.0
         if samples:
@@ -304,48 +348,72 @@ class Stock:
         return [(solid, np.stack([q.min(axis=0), q.max(axis=0)]))]
 
     def _make(self, ts: ToolSolid, jobs) -> tuple[list[engine.Solid], list[np.ndarray]]:
-        """Cutters of one stretch, in this process, trimmed to :meth:`trim_box`."""
-        cutters: list[engine.Solid] = []
-        boxes: list[np.ndarray] = []
-        solids = self._tool_pieces(ts)
-        box = self.trim_box() if self.trim else None
+        """Cutters of one stretch, in this process, each trimmed to the box around the stock
+        within its Z range (:meth:`_boxes`)."""
+        made: list[tuple[engine.Solid, np.ndarray]] = []
         for k, fr, runs, fan_jobs in jobs:
-            # every fan's poses trimmed in one go
-            fan_fr = [frames(t, a / np.linalg.norm(a, axis=1, keepdims=True)) for t, a, _ in fan_jobs]
-            trimmed = (clip(self._tool_shapes(ts)[0], np.concatenate(fan_fr), box[0], box[1])[0]
-                       if fan_jobs else [])
-            starts = np.cumsum([0] + [len(f) for f in fan_fr])
-            for f, (tips_f, axes_f, omega) in enumerate(fan_jobs):
-                made = self._fan_cutters(ts, tips_f, axes_f, omega, box, trimmed[starts[f] : starts[f + 1]])
-                self.stats.culled += not made
-                cutters += [c for c, _ in made]
-                boxes += [b for _, b in made]
-            if len(fr) and self.trim:
-                trimmed, inside = clip(self._tool_shapes(ts)[k], fr, box[0], box[1])
-                for j, q in enumerate(trimmed):
-                    if q is None:
-                        self.stats.culled += 1
-                        continue
-                    cutters.append(engine.transform(solids[k], fr[j]) if inside[j] else engine.hull(q))
-                    boxes.append(np.stack([q.min(axis=0), q.max(axis=0)]))
-            elif len(fr):
-                placed = place(ts.pieces[k], fr)                            # (m, p, 3)
-                for j in range(len(fr)):
-                    cutters.append(engine.transform(solids[k], fr[j]))
-                    boxes.append(np.stack([placed[j].min(axis=0), placed[j].max(axis=0)]))
-            for both in runs:
-                lo, hi = both.min(axis=0), both.max(axis=0)
-                if self.trim and not (np.all(lo >= box[0]) and np.all(hi <= box[1])):
-                    q = None
-                    if not (np.any(hi < box[0]) or np.any(lo > box[1])):
-                        q = clip(shape(*engine.hull_mesh(both)), _IDENTITY, box[0], box[1])[0][0]
-                    if q is None:
-                        self.stats.culled += 1
-                        continue
-                    both, lo, hi = q, q.min(axis=0), q.max(axis=0)
-                cutters.append(engine.hull(both))
-                boxes.append(np.stack([lo, hi]))
-        return cutters, boxes
+            made += self._make_fans(ts, fan_jobs)
+            made += self._make_placed(ts, k, fr)
+            made += self._make_runs(runs)
+        return [c for c, _ in made], [b for _, b in made]
+
+    def _make_fans(self, ts: ToolSolid, fan_jobs: list) -> list[tuple[engine.Solid, np.ndarray]]:
+        """Fan cutters (piece 0), every run's poses trimmed in one go."""
+        if not fan_jobs:
+            return []
+        out = []
+        fan_fr = [frames(t, a / np.linalg.norm(a, axis=1, keepdims=True)) for t, a, _ in fan_jobs]
+        z = [place(ts.pieces[0], f)[:, :, 2] for f in fan_fr]
+        fan_box = self._boxes(np.array([v.min() for v in z]), np.array([v.max() for v in z]))
+        sizes = [len(f) for f in fan_fr]
+        trimmed, _ = _clip_grouped(self._tool_shapes(ts)[0], np.concatenate(fan_fr),
+                                   np.repeat(fan_box, sizes, axis=0))
+        starts = np.cumsum([0, *sizes])
+        for f, (tips, axes, omega) in enumerate(fan_jobs):
+            got = self._fan_cutters(ts, tips, axes, omega, fan_box[f], trimmed[starts[f] : starts[f + 1]])
+            self.stats.culled += not got
+            out += got
+        return out
+
+    def _make_placed(self, ts: ToolSolid, k: int, fr: np.ndarray) -> list[tuple[engine.Solid, np.ndarray]]:
+        """Piece k placed at poses fr (m, 3, 4), trimmed."""
+        if len(fr) == 0:
+            return []
+        solid = self._tool_pieces(ts)[k]
+        placed = place(ts.pieces[k], fr)                                    # (m, p, 3)
+        if not self.trim:
+            return [(engine.transform(solid, fr[j]), np.stack([placed[j].min(axis=0), placed[j].max(axis=0)]))
+                    for j in range(len(fr))]
+        pose_box = self._boxes(placed[:, :, 2].min(axis=1), placed[:, :, 2].max(axis=1))
+        trimmed, inside = _clip_grouped(self._tool_shapes(ts)[k], fr, pose_box)
+        out = []
+        for j, q in enumerate(trimmed):
+            if q is None:
+                self.stats.culled += 1
+                continue
+            out.append((engine.transform(solid, fr[j]) if inside[j] else engine.hull(q),
+                        np.stack([q.min(axis=0), q.max(axis=0)])))
+        return out
+
+    def _make_runs(self, runs: list[np.ndarray]) -> list[tuple[engine.Solid, np.ndarray]]:
+        """Translation hulls, one per run (its placed points at both ends, (q, 3)), trimmed."""
+        if not runs:
+            return []
+        out = []
+        box = self._boxes(np.array([b[:, 2].min() for b in runs]), np.array([b[:, 2].max() for b in runs])) \
+            if self.trim else None
+        for r, both in enumerate(runs):
+            lo, hi = both.min(axis=0), both.max(axis=0)
+            if self.trim and not (np.all(lo >= box[r, 0]) and np.all(hi <= box[r, 1])):
+                q = None
+                if not (np.any(hi < box[r, 0]) or np.any(lo > box[r, 1]) or np.any(box[r, 0] > box[r, 1])):
+                    q = clip(shape(*engine.hull_mesh(both)), _IDENTITY, box[r, 0], box[r, 1])[0][0]
+                if q is None:
+                    self.stats.culled += 1
+                    continue
+                both, lo, hi = q, q.min(axis=0), q.max(axis=0)
+            out.append((engine.hull(both), np.stack([lo, hi])))
+        return out
 
     def queue(self, cutters: list, boxes: list) -> None:
         """Queue ready cutters (from :meth:`cutters`)."""
@@ -362,9 +430,7 @@ class Stock:
             hit = np.all(bx[:, 0] <= cell.box[1], axis=1) & np.all(bx[:, 1] >= cell.box[0], axis=1)
             used |= hit
             queued += int(hit.sum())
-            before = cell.seconds
             cell.add([cutters[i] for i in np.nonzero(hit)[0]])
-            self._local_seconds += cell.seconds - before
         self.stats.cutters += len(cutters)
         self.stats.culled += int((~used).sum())
         self._account()
@@ -372,7 +438,7 @@ class Stock:
             self._open_bar(queued)
 
     def _account(self) -> None:
-        self.stats.boolean_seconds = self._local_seconds
+        self.stats.boolean_seconds = sum(c.seconds for c in self._cells) + self._union_seconds
         self.stats.batches = sum(c.batches for c in self._cells)
         self._update_bar()
 
@@ -393,9 +459,7 @@ class Stock:
 
     def _flush_cells(self) -> None:
         for cell in self._cells:
-            before = cell.seconds
             cell.flush()
-            self._local_seconds += cell.seconds - before
 
     def flush(self) -> None:
         """Subtract every queued cutter."""
@@ -414,7 +478,7 @@ class Stock:
             t0 = time.perf_counter()
             self._solid = engine.union([c.solid for c in self._cells])
             engine.check(self._solid, "stock")
-            self._local_seconds += time.perf_counter() - t0
+            self._union_seconds += time.perf_counter() - t0
             self._account()
         return self._solid
 

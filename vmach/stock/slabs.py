@@ -1,0 +1,84 @@
+"""Boxes around the stock within ranges of Z: a tighter trim for each cutter.
+
+Only the part of a cutter inside the stock removes anything, and the stock never grows, so a
+cutter may be trimmed to any box that holds the stock *within the cutter's own Z range*
+(:mod:`vmach.stock.clip` explains why a box, and why exact box coordinates). One box around
+the whole stock is loose where the stock has been cut down: on the polygon shaft the end that
+the finishing cutter works on is 53.6 mm across while the blank behind the shoulder is still
+60. The stock's triangles are binned by Z once (their X/Y extent per bin), and a cutter's box
+is the extent of the bins its Z range meets, grown by ``tol.trim_margin`` and rounded outward
+to a grid so that neighbouring cutters share their box's planes exactly.
+
+Why that box holds the stock there: a closed surface's points inside a slab lie on triangles
+that meet the slab, and the solid's section is bounded by its surface, so the extent of those
+triangles bounds the stock within the slab. A stale snapshot (cutters subtracted since) only
+makes the box larger. Lengths mm.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vmach.tol import tol
+
+GRID = 0.5   # box planes rounded outward to multiples of this, mm
+
+
+@dataclass(frozen=True)
+class Slabs:
+    """X/Y extent of a surface per Z bin.
+
+    z0 : float — bottom of bin 0; step : float — bin height; lo, hi : (b, 2) float — X/Y
+    extent of the triangles meeting each bin (+inf/-inf for an empty bin).
+    """
+
+    z0: float
+    step: float
+    lo: np.ndarray
+    hi: np.ndarray
+
+    @classmethod
+    def from_mesh(cls, vertices: np.ndarray, faces: np.ndarray, step: float = 1.0) -> Slabs:
+        tri = vertices[faces]                                   # (m, 3, 3)
+        zmin, zmax = tri[:, :, 2].min(axis=1), tri[:, :, 2].max(axis=1)
+        z0 = float(zmin.min()) if len(tri) else 0.0
+        b0 = np.floor((zmin - z0) / step).astype(int)
+        b1 = np.floor((zmax - z0) / step).astype(int)
+        nb = int(b1.max()) + 1 if len(tri) else 1
+        span = b1 - b0 + 1
+        which = np.repeat(np.arange(len(tri)), span)
+        bins = np.repeat(b0, span) + (np.arange(span.sum()) - np.repeat(np.cumsum(span) - span, span))
+        xy_lo, xy_hi = tri[:, :, :2].min(axis=1), tri[:, :, :2].max(axis=1)
+        lo = np.full((nb, 2), np.inf)
+        hi = np.full((nb, 2), -np.inf)
+        np.minimum.at(lo, bins, xy_lo[which])
+        np.maximum.at(hi, bins, xy_hi[which])
+        return cls(z0, step, lo, hi)
+
+    def boxes(self, zlo: np.ndarray, zhi: np.ndarray, outer: np.ndarray) -> np.ndarray:
+        """Boxes (k, 2, 3) for Z ranges [zlo, zhi] (k,): the extent of the bins they meet,
+        grown by the trim margin, rounded outward to ``GRID``, and within ``outer`` (2, 3)
+        (the box around the whole stock). A range that meets no material gets an empty box
+        (lo > hi), which culls what is in it."""
+        zlo = np.asarray(zlo, dtype=float)
+        zhi = np.asarray(zhi, dtype=float)
+        nb = len(self.lo)
+        b0 = np.clip(np.floor((zlo - self.z0) / self.step).astype(int), 0, nb - 1)
+        b1 = np.clip(np.floor((zhi - self.z0) / self.step).astype(int), 0, nb - 1)
+        # running min/max over bin ranges: small ranges, so a loop over the widest span
+        lo = self.lo[b0].copy()
+        hi = self.hi[b0].copy()
+        for k in range(1, int((b1 - b0).max(initial=0)) + 1):
+            more = b0 + k <= b1
+            idx = np.minimum(b0 + k, nb - 1)
+            lo[more] = np.minimum(lo[more], self.lo[idx[more]])
+            hi[more] = np.maximum(hi[more], self.hi[idx[more]])
+        m = tol.trim_margin
+        out = np.empty((len(zlo), 2, 3))
+        out[:, 0, :2] = np.maximum(np.floor((lo - m) / GRID) * GRID, outer[0, :2])
+        out[:, 1, :2] = np.minimum(np.ceil((hi + m) / GRID) * GRID, outer[1, :2])
+        out[:, 0, 2] = outer[0, 2]
+        out[:, 1, 2] = outer[1, 2]
+        return out
