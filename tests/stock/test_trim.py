@@ -9,6 +9,7 @@ import pytest
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
 from vmach.stock.clip import clip, shape
+from vmach.tol import tol
 from vmach.tooling import frames, tool_solid
 
 
@@ -99,3 +100,30 @@ def test_local_stock_is_the_stock_inside_the_box(face40):
         got.append(engine.volume(local))
     assert got[0] == pytest.approx(got[1], rel=1e-9)
     assert got[0] < 0.25 * np.pi * 30 ** 2 * 41 - 100   # material was removed inside the box
+
+
+def test_trimming_to_the_stock_within_each_cutters_z_range_does_not_change_the_cut(face40):
+    """Slab boxes (vmach/stock/slabs.py): a shaft turned down to R 24 over its first 20 mm,
+    then cut across the step by a radial face mill. Each cutter is trimmed to the stock's
+    extent within its own Z range — tighter than one box where the shaft is thinner — and
+    the cut is the same as with one box."""
+    c = np.arange(0.0, 360.0, 3.0)
+    turn_tips, turn_axes = turnmill(24.0, 0.0, -10.0 + 0.0 * c, c)      # D40 face: z -30..10
+    tips, axes = turnmill(22.0, np.linspace(-4, 4, 40), np.linspace(-12, -30, 40), np.linspace(0, 70, 40))
+    vols = []
+    for slabs in (False, True):
+        Stock.SLABS = slabs
+        try:
+            stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, fans=False)
+            stock.cut(face40, turn_tips, turn_axes)
+            stock.flush()
+            box = stock._boxes(np.array([-15.0, -50.0]), np.array([-5.0, -40.0]), fresh=True)
+            stock.cut(face40, tips, axes)
+            vols.append(stock.volume)
+        finally:
+            Stock.SLABS = True
+        if slabs:
+            # thinner where it was turned, the whole stock's width beyond the step
+            assert box[0, 1, 0] <= 24.0 + tol.trim_margin + 0.5 < stock.trim_box()[1, 0]
+            assert box[1, 1, 0] == pytest.approx(stock.trim_box()[1, 0])
+    assert vols[1] == pytest.approx(vols[0], rel=1e-10)
