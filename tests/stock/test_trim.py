@@ -127,3 +127,30 @@ def test_trimming_to_the_stock_within_each_cutters_z_range_does_not_change_the_c
             assert box[0, 1, 0] <= 24.0 + tol.trim_margin + 0.5 < stock.trim_box()[1, 0]
             assert box[1, 1, 0] == pytest.approx(stock.trim_box()[1, 0])
     assert vols[1] == pytest.approx(vols[0], rel=1e-10)
+
+
+def test_a_translation_sweeps_written_down_shape_clips_like_its_hull(d25_shape):
+    """sweep_shape (vmach/stock/clip.py) gives the hull of a piece at two poses of one axis
+    without building it: clipped to a box, the same solid as the built hull clipped."""
+    from vmach.stock.clip import sweep_shape
+
+    ts, sh = d25_shape
+    rng = np.random.default_rng(7)
+    lo, hi = np.array([-30.5, -30.5, -40.5]), np.array([30.5, 30.5, 0.5])
+    seen = 0
+    for _ in range(30):
+        c = rng.uniform(0, 360)
+        a_tips, axes = turnmill(rng.uniform(15, 35), rng.uniform(-8, 8), rng.uniform(-45, 5), c)
+        d = rng.normal(0, 15, 3)
+        fa = frames(a_tips, axes)[0]
+        fb = frames(a_tips + d, axes)[0]
+        ident = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
+        mine = clip(sweep_shape(sh, fa, fb), ident, lo, hi)[0][0]
+        both = np.concatenate([sh.vertices @ fa[:, :3].T + fa[:, 3], sh.vertices @ fb[:, :3].T + fb[:, 3]])
+        built = clip(shape(*engine.hull_mesh(both)), ident, lo, hi)[0][0]
+        assert (mine is None) == (built is None)
+        if mine is None:
+            continue
+        seen += 1
+        assert engine.volume(engine.hull(mine)) == pytest.approx(engine.volume(engine.hull(built)), rel=1e-9)
+    assert seen > 10

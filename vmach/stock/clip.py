@@ -73,6 +73,31 @@ def shape(vertices: np.ndarray, faces: np.ndarray) -> Shape:
     return Shape(v, edges, planes[np.sort(first_of)])
 
 
+def sweep_shape(sh: Shape, frame_a: np.ndarray, frame_b: np.ndarray) -> Shape:
+    """The shape of a convex piece translated from pose a to pose b (frames (3, 4); the same
+    axis): its hull, without building it. Vertices: the piece at both poses. Edges: the
+    piece's at both poses and the segments joining each vertex to its copy — a superset of
+    the hull's edges (the rest lie inside it, and their crossings add nothing). Planes: the
+    piece's face normals and, for every edge, the two normals of the plane through it and
+    the travel, each at the vertices' support — supporting planes that include every facet
+    of the hull, so they cut it out exactly."""
+    p = len(sh.vertices)
+    va = sh.vertices @ frame_a[:, :3].T + frame_a[:, 3]
+    vb = sh.vertices @ frame_b[:, :3].T + frame_b[:, 3]
+    v = np.concatenate([va, vb])
+    e = sh.edges
+    edges = np.concatenate([e, e + p, np.column_stack([np.arange(p), np.arange(p) + p])])
+    d = frame_b[:, 3] - frame_a[:, 3]
+    normals = [sh.planes[:, :3] @ frame_a[:, :3].T]
+    side = np.cross(va[e[:, 1]] - va[e[:, 0]], d)
+    length = np.linalg.norm(side, axis=1)
+    keep = length > 1e-12 * max(1.0, float(np.linalg.norm(d))) * max(1.0, float(np.abs(va).max()))
+    side = side[keep] / length[keep][:, None]
+    normals += [side, -side]
+    n = np.concatenate(normals)
+    return Shape(v, edges, np.column_stack([n, (v @ n.T).max(axis=0)]))
+
+
 def _box_edges(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Start points (12, 3) and direction vectors (12, 3) of the box's edges."""
     corner = np.array([[hi[0] if i & 1 else lo[0], hi[1] if i & 2 else lo[1], hi[2] if i & 4 else lo[2]]

@@ -24,10 +24,10 @@ import numpy as np
 from vmach.errors import InputError
 from vmach.stock import engine
 from vmach.stock.batch import EMPTY_BOX, Piece
-from vmach.stock.clip import Shape, clip, shape
+from vmach.stock.clip import Shape, clip, shape, sweep_shape
 from vmach.stock.fan import (
-    ESTIMATE_MARGIN,
     NO_FANS,
+    aligned,
     bridge,
     hull_planes,
     material_points,
@@ -52,8 +52,9 @@ class CutStats:
 
     cutters : cutters made; culled : cutters that miss the stock; covered : placed poses left
     out because a translation hull contains them; fans : fan cutters (:mod:`vmach.stock.fan`)
-    and fan_poses : the poses they cover; fan_overcut_mm : the largest twist bound of a fan
-    used (mm); sweep_seconds : making cutters; boolean_seconds : batch booleans.
+    and fan_poses : the poses they cover; fan_overcut_mm : the largest bridge of a fan's hull
+    over the floor its tool's side sweeps, measured (mm); sweep_seconds : making cutters;
+    boolean_seconds : batch booleans.
     """
 
     paths: int = 0
@@ -140,6 +141,7 @@ class Stock:
         self.fan_overcut = fan_overcut
         self._blank_planes: np.ndarray | None = None
         self._slabs: Slabs | None = None
+        self._fan_guess = 8         # poses of the last fan that fitted
         self._slabs_at = -1         # batches done when the slabs were taken
         self.stats = CutStats()
         self._cells = self._partition(solid, cells)
@@ -252,7 +254,6 @@ class Stock:
         fans = self._fans(ts, tips, axes, (sp.angles > tol.hull_angle) & (placed[:-1] | placed[1:]))
         if len(fans.runs):
             poses = _outside_runs(poses, fans.runs)
-            self.stats.fan_poses += int((fans.runs[:, 1] - fans.runs[:, 0] + 1).sum())
         start = np.concatenate([poses, sp.runs[:, 0].astype(int), fans.runs[:, 0]])
         kind = np.r_[np.zeros(len(poses), int), np.ones(len(sp.runs), int), np.full(len(fans.runs), 2)]
         which = np.r_[np.arange(len(poses)), np.arange(len(sp.runs)), np.arange(len(fans.runs))].astype(int)
@@ -263,7 +264,7 @@ class Stock:
             ends = [run_extremes(tips, r) for r in sp.runs[which[part][kind[part] == 1]]]
             fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f])
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
-            jobs = [(k, fr[chunk_poses], [place(pts, fr[[a, b]]).reshape(-1, 3) for a, b in ends],
+            jobs = [(k, fr[chunk_poses], [(fr[a], fr[b]) for a, b in ends],
                      fan_jobs if k == 0 else [])
                     for k, pts in enumerate(ts.pieces)]
             self.stats.sweep_seconds += time.perf_counter() - t0
@@ -272,7 +273,7 @@ class Stock:
         self.stats.sweep_seconds += time.perf_counter() - t0
 
     def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray):
-        """Fan runs over the ``rotary`` steps (n-1,) bool of a path
+        """Candidate fan runs over the ``rotary`` steps (n-1,) bool of a path
         (:func:`vmach.stock.fan.plan_fans`; none unless the tool is one flat-faced prism and
         fans are on)."""
         pr = prism(ts.pieces[0]) if self.fans and len(ts.pieces) == 1 else None
@@ -282,10 +283,7 @@ class Stock:
             v, _ = engine.to_mesh(self.initial, double=True)
             self._blank_planes = shape(*engine.hull_mesh(v)).planes
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-        placed = place(ts.pieces[0], frames(tips, unit))                  # (n, p, 3)
-        reach = self._boxes(placed[:, :, 2].min(axis=1), placed[:, :, 2].max(axis=1), fresh=True)
-        return plan_fans(tips, unit, rotary, pr, reach, self._blank_planes,
-                         max_overcut=self.fan_overcut / ESTIMATE_MARGIN)
+        return plan_fans(tips, unit, rotary, pr)
 
     def _boxes(self, zlo: np.ndarray, zhi: np.ndarray, fresh: bool = False) -> np.ndarray:
         """Trim boxes (k, 2, 3) for cutters spanning Z ranges [zlo, zhi] (k,): the stock's
@@ -309,43 +307,81 @@ class Stock:
         return self._slabs.boxes(zlo, zhi, outer)
 
     def _fan_cutters(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, omega: np.ndarray,
-                     box: np.ndarray, trimmed: list | None = None) -> list[tuple[engine.Solid, np.ndarray]]:
-        """The cutters of one fan run (:mod:`vmach.stock.fan`): [(solid, box (2, 3)), ...],
-        empty when the run misses the trim box. ``trimmed``: the run's poses already clipped.
+                     box: np.ndarray, trimmed: list) -> list[tuple[engine.Solid, np.ndarray]]:
+        """The cutters of one candidate fan run (:mod:`vmach.stock.fan`): [(solid, box (2, 3)),
+        ...]. ``box`` (2, 3): its trim box; ``trimmed``: its poses clipped to it.
 
-        H is the hull of the run's poses each trimmed to the box: inside the box it holds
+        A fan's H is the hull of its poses each trimmed to the box: inside the box it holds
         every trimmed pose (so the fan removes at least what they would) and lies in the hull
-        of the untrimmed poses. H is then measured: how far it bridges the floor or ceiling the
-        tool's side sweeps (:func:`vmach.stock.fan.bridge`); a run that bridges more than
-        ``fan_overcut`` is split in two and each half made again, a single step that still
-        does is cut as its two placed poses."""
+        of the untrimmed poses. H is measured — how far it bridges the floor or ceiling the
+        tool's side sweeps (:func:`vmach.stock.fan.bridge`) — and a fan that bridges more than
+        ``fan_overcut`` is made again shorter, in proportion (the bridge grows with the twist
+        a run takes along its axis); the next fan starts at the length the last one's bridge
+        suggests. Two steps that still bridge too much are cut as placed poses."""
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-        if trimmed is None:
-            trimmed, _ = clip(self._tool_shapes(ts)[0], frames(tips, unit), box[0], box[1])
-        kept = [q for q in trimmed if q is not None]
-        if not kept:
-            return []
-        q = np.concatenate(kept)
-        hull = engine.hull(q)
-        lines = side_lines(tips, unit, omega, prism(ts.pieces[0]), np.broadcast_to(box, (len(tips), 2, 3)),
-                           self._blank_planes)
-        samples = side_samples(lines, 0, len(tips) - 1)
-        gap = 0.0
-        if samples:
+        reach = np.broadcast_to(box, (len(tips), 2, 3))
+        pr = prism(ts.pieces[0])
+        lines = side_lines(aligned(frames(tips, unit), omega, pr), omega, pr, reach, self._blank_planes)
+        n = len(tips)
+        tol_ = self.fan_overcut
+
+        def measure(i: int, j: int):
+            """(hull, bridge, points) of the fan i..j; hull None when it misses the box."""
+            kept = [q for q in trimmed[i : j + 1] if q is not None]
+            if not kept:
+                return None, 0.0, None
+            q = np.concatenate(kept)
+            hull = engine.hull(q)
+            samples = side_samples(lines, i, j)
+            if not samples:
+                return hull, 0.0, q
             planes = hull_planes(*engine.to_mesh(hull, double=True))
-            gap = max(bridge(planes, surf, d) for _, surf, d in samples)
-        if gap > self.fan_overcut:
-            if len(tips) > 2:
-                mid = len(tips) // 2
-                a, b = slice(0, mid + 1), slice(mid, None)
-                return (self._fan_cutters(ts, tips[a], axes[a], omega, box, trimmed[a])
-                        + self._fan_cutters(ts, tips[b], axes[b], omega, box, trimmed[b]))
-            return [(engine.hull(k), np.stack([k.min(axis=0), k.max(axis=0)])) for k in kept]
-        m = material_points(tips, unit, omega, q)
-        solid = engine.subtract(hull, [engine.hull(m)]) if m is not None else hull
-        self.stats.fans += 1
-        self.stats.fan_overcut_mm = max(self.stats.fan_overcut_mm, gap)
-        return [(solid, np.stack([q.min(axis=0), q.max(axis=0)]))]
+            return hull, max(bridge(planes, surf, d) for _, surf, d in samples), q
+
+        def end(i: int, j: int, shrink: bool = False) -> int:
+            """j within i+2 .. n-1, leaving no run of one step over (rounding down when
+            shrinking, so that the run does get shorter)."""
+            j = min(n - 1, max(i + 2, j))
+            if 0 < n - 1 - j < 2:
+                j = n - 3 if shrink and n - 3 >= i + 2 else n - 1
+            return j
+
+        def scaled(i: int, j: int, gap: float, most: float) -> int:
+            return i + int((j - i) * min(most, 0.95 * tol_ / max(gap, 1e-12)))
+
+        out = []
+        i = 0
+        while i < n - 1:
+            j = end(i, i + self._fan_guess)
+            hull, gap, q = measure(i, j)
+            while gap > tol_ and j - i > 2:                 # too twisted: shorter, in proportion
+                k = end(i, min(j - 1, scaled(i, j, gap, 1.0)), shrink=True)
+                if k >= j:
+                    break
+                j = k
+                hull, gap, q = measure(i, j)
+            while gap <= 0.6 * tol_ and j < n - 1:          # room to spare: one longer try
+                k = end(i, max(j + 1, scaled(i, j, gap, 2.0)))
+                h2, g2, q2 = measure(i, k)
+                if g2 > tol_:
+                    break
+                j, hull, gap, q = k, h2, g2, q2
+            if hull is None:
+                self.stats.culled += 1
+            elif gap > tol_:                # two steps still too twisted: placed poses, as made
+                own, _ = clip(self._tool_shapes(ts)[0], frames(tips[i : j + 1], unit[i : j + 1]), *box)
+                out += [(engine.hull(k), np.stack([k.min(axis=0), k.max(axis=0)]))
+                        for k in own if k is not None]
+            else:
+                m = material_points(tips[i : j + 1], unit[i : j + 1], omega, q)
+                out.append((engine.subtract(hull, [engine.hull(m)]) if m is not None else hull,
+                            np.stack([q.min(axis=0), q.max(axis=0)])))
+                self.stats.fans += 1
+                self.stats.fan_poses += j - i + 1
+                self.stats.fan_overcut_mm = max(self.stats.fan_overcut_mm, gap)
+                self._fan_guess = max(2, scaled(i, j, gap, 1.5) - i)
+            i = j
+        return out
 
     def _make(self, ts: ToolSolid, jobs) -> tuple[list[engine.Solid], list[np.ndarray]]:
         """Cutters of one stretch, in this process, each trimmed to the box around the stock
@@ -354,7 +390,7 @@ class Stock:
         for k, fr, runs, fan_jobs in jobs:
             made += self._make_fans(ts, fan_jobs)
             made += self._make_placed(ts, k, fr)
-            made += self._make_runs(runs)
+            made += self._make_runs(ts, k, runs)
         return [c for c, _ in made], [b for _, b in made]
 
     def _make_fans(self, ts: ToolSolid, fan_jobs: list) -> list[tuple[engine.Solid, np.ndarray]]:
@@ -362,7 +398,9 @@ class Stock:
         if not fan_jobs:
             return []
         out = []
-        fan_fr = [frames(t, a / np.linalg.norm(a, axis=1, keepdims=True)) for t, a, _ in fan_jobs]
+        pr = prism(ts.pieces[0])
+        fan_fr = [aligned(frames(t, a / np.linalg.norm(a, axis=1, keepdims=True)), w, pr)
+                  for t, a, w in fan_jobs]
         z = [place(ts.pieces[0], f)[:, :, 2] for f in fan_fr]
         fan_box = self._boxes(np.array([v.min() for v in z]), np.array([v.max() for v in z]))
         sizes = [len(f) for f in fan_fr]
@@ -370,9 +408,7 @@ class Stock:
                                    np.repeat(fan_box, sizes, axis=0))
         starts = np.cumsum([0, *sizes])
         for f, (tips, axes, omega) in enumerate(fan_jobs):
-            got = self._fan_cutters(ts, tips, axes, omega, fan_box[f], trimmed[starts[f] : starts[f + 1]])
-            self.stats.culled += not got
-            out += got
+            out += self._fan_cutters(ts, tips, axes, omega, fan_box[f], trimmed[starts[f] : starts[f + 1]])
         return out
 
     def _make_placed(self, ts: ToolSolid, k: int, fr: np.ndarray) -> list[tuple[engine.Solid, np.ndarray]]:
@@ -395,19 +431,23 @@ class Stock:
                         np.stack([q.min(axis=0), q.max(axis=0)])))
         return out
 
-    def _make_runs(self, runs: list[np.ndarray]) -> list[tuple[engine.Solid, np.ndarray]]:
-        """Translation hulls, one per run (its placed points at both ends, (q, 3)), trimmed."""
+    def _make_runs(self, ts: ToolSolid, k: int, runs: list) -> list[tuple[engine.Solid, np.ndarray]]:
+        """Translation hulls of piece k, one per run (frames (3, 4) of its two extreme poses),
+        trimmed: the hull's shape is written down (:func:`vmach.stock.clip.sweep_shape`) and
+        clipped, without building the untrimmed hull."""
         if not runs:
             return []
+        sweeps = [sweep_shape(self._tool_shapes(ts)[k], fa, fb) for fa, fb in runs]
+        box = self._boxes(np.array([w.vertices[:, 2].min() for w in sweeps]),
+                          np.array([w.vertices[:, 2].max() for w in sweeps])) if self.trim else None
         out = []
-        box = self._boxes(np.array([b[:, 2].min() for b in runs]), np.array([b[:, 2].max() for b in runs])) \
-            if self.trim else None
-        for r, both in enumerate(runs):
+        for r, w in enumerate(sweeps):
+            both = w.vertices
             lo, hi = both.min(axis=0), both.max(axis=0)
             if self.trim and not (np.all(lo >= box[r, 0]) and np.all(hi <= box[r, 1])):
                 q = None
                 if not (np.any(hi < box[r, 0]) or np.any(lo > box[r, 1]) or np.any(box[r, 0] > box[r, 1])):
-                    q = clip(shape(*engine.hull_mesh(both)), _IDENTITY, box[r, 0], box[r, 1])[0][0]
+                    q = clip(w, _IDENTITY, box[r, 0], box[r, 1])[0][0]
                 if q is None:
                     self.stats.culled += 1
                     continue
