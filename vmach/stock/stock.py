@@ -243,6 +243,10 @@ class Stock:
             return
         sp = plan(tips, axes)
         fr = frames(tips, axes)
+        if self.trim:
+            t1 = time.perf_counter()
+            self._boxes(np.zeros(0), np.zeros(0), fresh=True)    # trim slabs of the stock now
+            t0 += time.perf_counter() - t1                       # (its booleans are counted there)
         poses = sp.poses
         if self.trim:
             poses = _outside_runs(poses, sp.runs)
@@ -291,6 +295,8 @@ class Stock:
         slabs are taken again after every SLAB_REFRESH batches, and for a new path
         (``fresh``) when anything was subtracted since (a stale snapshot is only looser: the
         stock shrinks)."""
+        if fresh and self.SLABS and any(c.pending for c in self._cells):
+            self._flush_cells()     # a new path starts from the stock as it is (not as it was)
         done = sum(c.batches for c in self._cells)
         stale = done - self._slabs_at >= self.SLAB_REFRESH or (fresh and done > self._slabs_at)
         if self.SLABS and (self._slabs is None or stale):
