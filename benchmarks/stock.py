@@ -10,11 +10,12 @@ and kinematics) and boolean seconds, total wall time, peak memory, and for the p
 P3G-50 deviation between z = -35 and -5 with the sampling bound.
 
 Cases
-- ``program``: ``simulate`` with the defaults (cutters trimmed to the stock's box, placed poses
-  inside translation hulls left out, spread batches, tools to ``tol.tool_chord``).
+- ``program``: ``simulate`` with the defaults (fan cutters for rotary runs of flat-faced tools,
+  cutters trimmed to the stock within their Z range, placed poses inside translation hulls left
+  out, spread batches, tools to ``tol.tool_chord``).
 - ``program-checked``: the same with ``checks=True`` (what ``vmach verify`` runs).
-- ``program-before``: the pipeline as it was before (no trimming, batches in queue order, tools
-  to 0.002 mm) — measured in the same run, so on the same machine load.
+- ``program-before``: the pipeline as it was before issue 4's speed work (no trimming, no fans,
+  batches in queue order, tools to 0.002 mm) — measured in the same run, so on the same load.
 - ``program-naive``: one convex hull of the tool at the two ends of every move, one batch
   (it also overcuts rotary moves by about R sin(delta/2)).
 - ``helix N``: a synthetic finishing helix (face at X = h(C), C +1.713 deg per move, Z -0.01 per
@@ -113,6 +114,7 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             engine.check(part)
             out.update(cutters=stock.stats.cutters, sweep=stock.stats.sweep_seconds + sim.kinematics_seconds,
                        boolean=stock.stats.boolean_seconds, bound=sim.bound_mm,
+                       fans=stock.stats.fans, fan_overcut=stock.stats.fan_overcut_mm,
                        findings=len(sim.findings), triangles=engine.num_triangles(part))
             out["total"] = time.perf_counter() - t_all
             out["dev"] = _deviation(stock.section)
@@ -142,7 +144,8 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             stock.cut(tool, tips, axes)
             engine.check(stock.solid)
             out.update(cutters=stock.stats.cutters, sweep=stock.stats.sweep_seconds,
-                       boolean=stock.stats.boolean_seconds)
+                       boolean=stock.stats.boolean_seconds, fans=stock.stats.fans,
+                       fan_overcut=stock.stats.fan_overcut_mm)
         else:
             t0 = time.perf_counter()
             hulls = _naive_hulls(tool, tips[:-1], axes[:-1], tips[1:], axes[1:])
@@ -177,6 +180,8 @@ def line(r: dict) -> str:
         dev = f"  deviation max {r['dev'][0]:+.4f} min {r['dev'][1]:+.4f} mm"
     if "bound" in r:
         dev += f"  (sampling bound {r['bound']:.4f} mm)"
+    if r.get("fans"):
+        dev += f"  [{r['fans']} fans, side-floor overcut <= {r['fan_overcut']:.4f} mm]"
     return (f"{r['case']:<16s} {r['moves']:>6d} moves {r['cutters']:>6d} cutters  sweep "
             f"{r['sweep']:6.2f} s  boolean {r['boolean']:7.2f} s  total {r['total']:7.2f} s  "
             f"peak {r['peak_mb']:6.0f} MB{dev}")

@@ -5,9 +5,11 @@
     part = stock.solid                   # flushes pending cutters
     stock.export("part.stl"); stock.export("removed.3mf", which="removed")
 
-A path becomes cutters (placed tool pieces and translation hulls, :mod:`vmach.stock.sweep`),
-trimmed exactly to the box around the stock (:mod:`vmach.stock.clip`); placed poses that a
-translation hull of the same path contains are left out. Cutters are queued per piece of stock
+A path becomes cutters (placed tool pieces and translation hulls, :mod:`vmach.stock.sweep`;
+fan cutters for rotary runs of a flat-faced tool, :mod:`vmach.stock.fan`), each trimmed
+exactly to the box around the stock within its Z range (:mod:`vmach.stock.clip`,
+:mod:`vmach.stock.slabs`); placed poses that a translation hull of the same path contains are
+left out. Cutters are queued per piece of stock
 and subtracted in checked batches (:mod:`vmach.stock.batch`). Subtraction commutes, so the
 order of pieces and batches does not change the result.
 """

@@ -18,7 +18,8 @@ How each step i → i+1 is swept (:func:`plan`):
   from the rotation axis by a tool face of normal curvature κ (κ = 0 for the flat end face of a
   face mill, 1/R for the cylindrical side, cos ψ / ρ on a cone). The caller samples rotary moves
   densely enough (``tol.sweep_angle``, ``tol.sweep_step``) for the bound it needs; tests prove
-  the bound on closed-form cuts.
+  the bound on closed-form cuts. Where a run of rotary steps of a flat-faced tool allows it,
+  :class:`vmach.stock.Stock` cuts the run as one fan cutter instead (:mod:`vmach.stock.fan`).
 """
 
 from __future__ import annotations
