@@ -152,6 +152,7 @@ class Stock:
         self._progress = progress and sys.stderr.isatty()
         self._piece_cache: dict[int, list[engine.Solid]] = {}
         self._shape_cache: dict[int, list[Shape]] = {}
+        self._prism_cache: dict[int, object] = {}
         self._union_seconds = 0.0   # the cells' union into one solid
 
     @classmethod
@@ -185,6 +186,13 @@ class Stock:
         if id(ts) not in self._piece_cache:
             self._piece_cache[id(ts)] = [engine.hull(p) for p in ts.pieces]
         return self._piece_cache[id(ts)]
+
+    def _prism(self, ts: ToolSolid):
+        """The tool as a flat-faced prism (:func:`vmach.stock.fan.prism`), or None: a tool of
+        several pieces, a cone, a ball."""
+        if id(ts) not in self._prism_cache:
+            self._prism_cache[id(ts)] = prism(ts.pieces[0]) if len(ts.pieces) == 1 else None
+        return self._prism_cache[id(ts)]
 
     def _tool_shapes(self, ts: ToolSolid) -> list[Shape]:
         if id(ts) not in self._shape_cache:
@@ -282,7 +290,7 @@ class Stock:
         """Candidate fan runs over the ``rotary`` steps (n-1,) bool of a path
         (:func:`vmach.stock.fan.plan_fans`; none unless the tool is one flat-faced prism and
         fans are on)."""
-        pr = prism(ts.pieces[0]) if self.fans and len(ts.pieces) == 1 else None
+        pr = self._prism(ts) if self.fans else None
         if pr is None:
             return NO_FANS
         if self._blank_planes is None:
@@ -328,7 +336,7 @@ class Stock:
         suggests. Two steps that still bridge too much are cut as placed poses."""
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
         reach = np.broadcast_to(box, (len(tips), 2, 3))
-        pr = prism(ts.pieces[0])
+        pr = self._prism(ts)
         lines = side_lines(aligned(frames(tips, unit), omega, pr), omega, pr, reach, self._blank_planes)
         n = len(tips)
         tol_ = self.fan_overcut
@@ -406,7 +414,7 @@ class Stock:
         if not fan_jobs:
             return []
         out = []
-        pr = prism(ts.pieces[0])
+        pr = self._prism(ts)
         fan_fr = [aligned(frames(t, a / np.linalg.norm(a, axis=1, keepdims=True)), w, pr)
                   for t, a, w in fan_jobs]
         z = [place(ts.pieces[0], f)[:, :, 2] for f in fan_fr]
