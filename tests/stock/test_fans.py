@@ -179,3 +179,41 @@ def test_a_run_that_cannot_fit_falls_back_to_placed_poses(helix_cut):
         vols.append(stock.volume)
         assert stock.stats.fans == 0
     assert vols[0] == pytest.approx(vols[1], rel=1e-12)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_random_rotary_runs_stay_within_the_bound_against_dense_placed_poses(library, seed):
+    """Random turn-mill runs — a convex support-function profile X(C), a lateral offset Y,
+    a pitch along Z, either sense of rotation — cut by fans and by placed poses 8× denser
+    (which approach the true sweep from inside): the fans' floor is nowhere deeper than the
+    dense cut's by more than their reported bound plus twice the polygon's deviation (the
+    two use different polygon phases), and the flank nowhere deeper at all (beyond eps)."""
+    rng = np.random.default_rng(seed)
+    tool = library.lookup("GLOD D25")
+    k = int(rng.integers(2, 5))
+    amp = rng.uniform(0.0, 0.8) * 24.0 / (k * k - 1)          # h + h'' > 0: a convex profile
+    pitch, y0, sense = rng.uniform(-0.02, 0.02), rng.uniform(-3, 3), rng.choice([-1.0, 1.0])
+    n, step = 36, 1.713
+
+    def path(sub):
+        c = sense * np.arange(n * sub + 1) * step / sub
+        x = 24.0 + amp * np.sin(np.radians(k * c))
+        return turnmill(x, y0, -6.0 + pitch * np.arange(n * sub + 1) / sub, c)
+
+    cuts = {}
+    for name, sub, kw in (("fans", 1, {}), ("dense", 8, {"fans": False})):
+        stock = Stock.from_spec("cylinder:d=60,l=60", chord=FINE, **kw)
+        stock.cut(tool, *path(sub))
+        cuts[name] = stock
+    fans = cuts["fans"]
+    assert fans.stats.fans > 0
+    dev = tool_solid(tool, FINE).deviation
+    phis = np.radians(sense * np.linspace(3, n * step - 3, 150))
+    lo_f = floor_hits(fans.solid, phis, np.array([26.5, 28.0, 29.5]))
+    lo_d = floor_hits(cuts["dense"].solid, phis, np.array([26.5, 28.0, 29.5]))
+    assert np.nanmax(lo_d - lo_f) <= fans.stats.fan_overcut_mm + 2 * dev + 1e-6
+    for z in (-3.0, -1.0):
+        for phi in phis[::5]:
+            o, e = (40 * np.cos(phi), 40 * np.sin(phi), z), (0.0, 0.0, z)
+            a, b = fans.solid.ray_cast(o, e)[0].distance, cuts["dense"].solid.ray_cast(o, e)[0].distance
+            assert a <= b + 1e-5            # the fans' flank is not deeper than the dense cut's
