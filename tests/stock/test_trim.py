@@ -114,7 +114,8 @@ def test_trimming_to_the_stock_within_each_cutters_z_range_does_not_change_the_c
     for slabs in (False, True):
         Stock.SLABS = slabs
         try:
-            stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, fans=False)
+            # small batches: enough of them that the next path takes the slabs again
+            stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, fans=False, batch=8)
             stock.cut(face40, turn_tips, turn_axes)
             stock.flush()
             box = stock._boxes(np.array([-15.0, -50.0]), np.array([-5.0, -40.0]), fresh=True)

@@ -125,6 +125,7 @@ class Stock:
 
     CHUNK = 256  # poses swept at a time (cutters are queued, and may be subtracted, as they come)
     SLAB_REFRESH = 32  # batches after which the trim slabs are taken again
+    FRESH_AFTER = 4    # batches' worth of cutters after which a new path retakes them
     SLABS = True       # trim to the stock's extent per Z range (False: one box, for comparison)
     GROUP = 16   # consecutive cutters kept together in a spread batch
 
@@ -303,12 +304,17 @@ class Stock:
         """Trim boxes (k, 2, 3) for cutters spanning Z ranges [zlo, zhi] (k,): the stock's
         extent within the range (:mod:`vmach.stock.slabs`), inside :meth:`trim_box`. The
         slabs are taken again after every SLAB_REFRESH batches, and for a new path
-        (``fresh``) when anything was subtracted since (a stale snapshot is only looser: the
-        stock shrinks)."""
-        if fresh and self.SLABS and any(c.pending for c in self._cells):
-            self._flush_cells()     # a new path starts from the stock as it is (not as it was)
+        (``fresh``) once FRESH_AFTER batches' worth of cutters were made since — then from the
+        stock as it is, pending cutters subtracted (a stale snapshot is only looser: the stock
+        shrinks; a path cut chunk by chunk does not retake it for every chunk)."""
         done = sum(c.batches for c in self._cells)
-        stale = done - self._slabs_at >= self.SLAB_REFRESH or (fresh and done > self._slabs_at)
+        made = done + sum(len(c.pending) for c in self._cells) / self.batch
+        if fresh and self.SLABS and self._slabs is not None and made - self._slabs_at >= self.FRESH_AFTER:
+            self._flush_cells()
+            done = sum(c.batches for c in self._cells)
+            stale = True
+        else:
+            stale = done - self._slabs_at >= self.SLAB_REFRESH
         if self.SLABS and (self._slabs is None or stale):
             meshes = [engine.to_mesh(c.solid, double=True) for c in self._cells
                       if not engine.is_empty(c.solid)]
