@@ -19,12 +19,13 @@ sampled face planes — the same surface placed poses make, with the same scallo
 hull fills what the tool's body and side sweep between the samples (placed poses leave that
 as cusps). The hull exceeds the true swept volume only where the motion twists: when the tool
 also moves along the rotation axis ω, the lines of the tool's side at its ±ω extremes sweep a
-helicoid-like ruled surface, and the hull bridges it by at most a quarter of the quad's twist,
-``|det(A1−A0, B0−A0, B1−A0)| / (4·|(A1−A0)×(B0−A0)|)`` for two such lines A, B (for a helix
-of pitch p per radian at radius r, length L of the line inside the blank: ``p·Θ·L/(4r)``). A
-run is kept only while that bound, over every pair of its poses, stays within
-``tol.fan_overcut``; this is the only place vmach may remove more than the true sweep, and
-by no more than that.
+helicoid-like ruled surface (the floor or ceiling the side cuts), and the hull bridges it —
+the more, the longer the run and the further the lines reach. No closed form held for long
+runs, so every made fan is *measured*: :func:`side_samples` samples that ruled surface inside
+the blank, :func:`bridge` takes the largest distance from it to the hull's boundary along ±ω
+(10 % larger for what lies between samples), and :class:`vmach.stock.Stock` shortens a fan
+until that is within ``tol.fan_overcut``. This is the only place vmach may remove more than
+the true sweep, and by no more than that.
 
 **When it applies** (checked per run, else the poses are placed as before):
 

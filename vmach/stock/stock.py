@@ -9,9 +9,9 @@ A path becomes cutters (placed tool pieces and translation hulls, :mod:`vmach.st
 fan cutters for rotary runs of a flat-faced tool, :mod:`vmach.stock.fan`), each trimmed
 exactly to the box around the stock within its Z range (:mod:`vmach.stock.clip`,
 :mod:`vmach.stock.slabs`); placed poses that a translation hull of the same path contains are
-left out. Cutters are queued per piece of stock
-and subtracted in checked batches (:mod:`vmach.stock.batch`). Subtraction commutes, so the
-order of pieces and batches does not change the result.
+left out. Cutters are queued per piece of stock and subtracted in checked batches
+(:mod:`vmach.stock.batch`). Subtraction commutes, so the order of pieces and batches does not
+change the result.
 """
 
 from __future__ import annotations
@@ -239,7 +239,8 @@ class Stock:
 
     def _sweep(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray):
         """Yield (tool solid, jobs) for consecutive stretches of a path, in path order. A job
-        is ``(piece, frames (m, 3, 4) of placed poses, [run points (q, 3), ...])``."""
+        is ``(piece, frames (m, 3, 4) of placed poses, [(frame_a, frame_b) of each translation
+        run], [(tips, axes, omega) of each fan run — piece 0 only])``."""
         t0 = time.perf_counter()
         ts = tool if isinstance(tool, ToolSolid) else tool_solid(tool, self.chord)
         tips = np.asarray(tips, dtype=float).reshape(-1, 3)
@@ -281,7 +282,7 @@ class Stock:
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
             jobs = [(k, fr[chunk_poses], [(fr[a], fr[b]) for a, b in ends],
                      fan_jobs if k == 0 else [])
-                    for k, pts in enumerate(ts.pieces)]
+                    for k in range(len(ts.pieces))]
             self.stats.sweep_seconds += time.perf_counter() - t0
             yield ts, jobs
             t0 = time.perf_counter()
@@ -329,9 +330,11 @@ class Stock:
         return self._slabs.boxes(zlo, zhi, outer)
 
     def _fan_cutters(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, omega: np.ndarray,
-                     box: np.ndarray, trimmed: list) -> list[tuple[engine.Solid, np.ndarray]]:
+                     fr: np.ndarray, box: np.ndarray, trimmed: list) -> list[tuple[engine.Solid, np.ndarray]]:
         """The cutters of one candidate fan run (:mod:`vmach.stock.fan`): [(solid, box (2, 3)),
-        ...]. ``box`` (2, 3): its trim box; ``trimmed``: its poses clipped to it.
+        ...]. ``fr`` (n, 3, 4): its poses' frames, turned to one polygon phase
+        (:func:`vmach.stock.fan.aligned`); ``box`` (2, 3): its trim box; ``trimmed``: its poses
+        clipped to it.
 
         A fan's H is the hull of its poses each trimmed to the box: inside the box it holds
         every trimmed pose (so the fan removes at least what they would) and lies in the hull
@@ -343,7 +346,7 @@ class Stock:
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
         reach = np.broadcast_to(box, (len(tips), 2, 3))
         pr = self._prism(ts)
-        lines = side_lines(aligned(frames(tips, unit), omega, pr), omega, pr, reach, self._blank_planes)
+        lines = side_lines(fr, omega, pr, reach, self._blank_planes)
         n = len(tips)
         tol_ = self.fan_overcut
 
@@ -430,7 +433,8 @@ class Stock:
                                    np.repeat(fan_box, sizes, axis=0))
         starts = np.cumsum([0, *sizes])
         for f, (tips, axes, omega) in enumerate(fan_jobs):
-            out += self._fan_cutters(ts, tips, axes, omega, fan_box[f], trimmed[starts[f] : starts[f + 1]])
+            out += self._fan_cutters(ts, tips, axes, omega, fan_fr[f], fan_box[f],
+                                     trimmed[starts[f] : starts[f + 1]])
         return out
 
     def _make_placed(self, ts: ToolSolid, k: int, fr: np.ndarray) -> list[tuple[engine.Solid, np.ndarray]]:
