@@ -40,9 +40,10 @@ def test_straight_slot_removes_exactly_the_minkowski_sum(flat10):
     stock.cut(flat10, tips, axes)
     ts = tool_solid(flat10)
     n, rv = ts.segments, straddle_radius(flat10.radius, ts.segments)
-    ring = rv * np.exp(2j * np.pi * (np.arange(n) + 0.5) / n)
     area = 0.5 * n * rv ** 2 * math.sin(2 * math.pi / n)
-    width = ring.imag.max() - ring.imag.min()
+    # the polygon is turned so that it reaches exactly the true radius to both sides of its
+    # travel (tooling.solid.spun): the slot is the tool's true width, 2r, not the polygon's
+    width = 2.0 * flat10.radius
     expected = 3.0 * (area + width * 40.0)     # depth x (polygon + swept band)
     assert v0 - stock.volume == pytest.approx(expected, rel=2e-6)
     engine.check(stock.solid)
@@ -146,11 +147,13 @@ def test_spread_batches_remove_exactly_what_queue_order_does(face40):
 
 
 @pytest.mark.parametrize("fans", [False, True])
-def test_side_made_surface_is_within_the_tool_chord(library, fans):
+def test_side_made_floor_is_where_the_true_tool_puts_it(library, fans):
     """The D25 end mill turned a full revolution about the work axis at X = 26: its flat face
     makes the round flank (exact for any polygon) and its side makes the floor at Z = zc - R.
-    The polygonised side (tol.tool_chord) puts that floor within the polygon's deviation of the
-    true one, never more than the chord."""
+    The side is a polygon (within tol.tool_chord of the circle), but every pose is turned about
+    its axis so that the polygon reaches exactly R across its travel (tooling.solid.spun):
+    the floor is the true one (fans), or the true one up to the cusps between sampled copies
+    (placed poses), not merely within the polygon's deviation of it."""
     from vmach.checks.profile import axis_contour
     from vmach.tol import tol
 
@@ -169,7 +172,37 @@ def test_side_made_surface_is_within_the_tool_chord(library, fans):
         for r in (h + 0.5, 27.5, 29.0):
             x, y = r * np.cos(phi), r * np.sin(phi)
             floor.append(removed.ray_cast((x, y, -60.0), (x, y, 0.0))[0].position[2])
-    assert np.abs(np.array(floor) - (zc - tool.radius)).max() <= ts.deviation + 1e-6
+    assert ts.deviation > 0.005                    # the polygon is coarse ...
+    err = np.array(floor) - (zc - tool.radius)     # > 0: material left
+    if fans:
+        assert np.abs(err).max() <= 1e-6           # ... the floor exact: the hull fills it
+    else:
+        # ... placed poses leave only the cusps between the side's copies, s²/(8R) with the
+        # side moving s = r·delta between poses at the outermost ray, and never cut below
+        cusp = (29.0 * math.radians(1.0)) ** 2 / (8 * tool.radius)
+        assert err.min() >= -1e-6 and err.max() <= cusp + 1e-6
+        assert err.max() > 0.2 * cusp
     # the flank made by the face is the tangent polygon of radius h, whatever the chord
     edge = edge_distance(axis_contour(stock.section(zc)))
     assert edge.min() >= h - 1e-4 and edge.max() <= h + float(scallop_bound(h, 1.0)) + 1e-4
+
+
+def test_chamfer_cone_walls_are_the_true_cone(library):
+    """The 150-degree chamfer mill drawn straight along X at a tilt-free axis: its cone makes
+    two bevelled walls at +-Y whose half width at height z above the tip is (z - z_tip)·tan 75°
+    — the true cone's, to 1e-6 mm, though its polygon is coarse (every ring of the cone is
+    turned alike, exact across the travel)."""
+    tool = library.lookup("GLOD D16_15")
+    ts = tool_solid(tool)
+    assert ts.deviation > 0.001
+    z_tip = -1.5
+    tips = np.array([[-30.0, 0.0, z_tip], [30.0, 0.0, z_tip]])
+    axes = np.tile([0.0, 0.0, 1.0], (2, 1))
+    stock = Stock.from_spec("box:xmin=-20,xmax=20,ymin=-20,ymax=20,zmin=-10,zmax=0")
+    stock.cut(tool, tips, axes)
+    half = math.tan(math.radians(tool.point_angle / 2))
+    for z in (-1.2, -0.7, -0.1):
+        for x in (-10.0, 3.0, 15.0):
+            for sign in (1.0, -1.0):
+                hit = stock.solid.ray_cast((x, 0.0, z), (x, sign * 25.0, z))
+                assert abs(abs(hit[0].position[1]) - (z - z_tip) * half) <= 1e-6

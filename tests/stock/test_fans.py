@@ -89,8 +89,9 @@ def test_fans_overcut_the_side_made_floor_by_no_more_than_their_bound(helix_cut)
     assert 0 < bound <= tol.fan_overcut
     over = helix_cut["true"] - hits          # > 0: the floor is cut deeper than the tool went
     assert np.nanmax(over) <= bound + dev + 1e-6
-    # ... and the bound is not idle: the twist is really bridged
-    assert np.nanmax(over) >= 0.5 * bound
+    # ... and the bound is not idle: the twist is really bridged (the polygon adds nothing
+    # here: it reaches exactly the true radius across the travel, tooling.solid.spun)
+    assert np.nanmax(over) >= 0.4 * bound
 
 
 def test_an_unbounded_fan_overcuts_more_and_says_so(helix_cut):
@@ -110,13 +111,12 @@ def test_placed_poses_never_cut_below_the_true_floor(helix_cut):
 
 
 def test_fans_remove_at_least_what_placed_poses_remove(helix_cut):
-    """Up to the tool polygon: a fan's poses are turned about their axis to one polygon
-    phase (fan.aligned), placed poses keep theirs, so the polygons' vertices stand out in
-    different places, by at most twice the polygon's deviation."""
-    dev = tool_solid(helix_cut["tool"], FINE).deviation
+    """A fan is the hull of the very poses placed poses would place (the same frames, turned
+    alike about the tool axis) minus M, which lies eps below the face planes: its floor is
+    never higher than theirs."""
     fans, fan_hits = helix_cut["fans"]
     placed, placed_hits = helix_cut["placed"]
-    assert np.nanmax(fan_hits - placed_hits) <= 2 * dev + 1e-6     # the fans' floor is not higher
+    assert np.nanmax(fan_hits - placed_hits) <= 1e-5                # the fans' floor is not higher
     assert np.nanmean(placed_hits - fan_hits) > 0.001               # it is lower: cusps filled
     assert engine.volume(placed.solid) - engine.volume(fans.solid) > 1.0
 

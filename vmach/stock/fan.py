@@ -186,22 +186,6 @@ class SideLines:
     omega: np.ndarray
 
 
-def aligned(frames_: np.ndarray, omega: np.ndarray, tool: Prism) -> np.ndarray:
-    """Frames (n, 3, 4) turned about their own tool axis so that the polygon's vertex 0
-    points toward +omega at every pose (a solid of revolution may turn freely; its polygon
-    may not): then every pose reaches equally far toward ±omega, and the hull of a run
-    bridges only the twist of the motion, not the polygon's changing phase."""
-    rot = frames_[:, :, :3]
-    local = np.einsum("nji,j->ni", rot, omega)
-    phi = np.arctan2(local[:, 1], local[:, 0]) - np.arctan2(tool.ring[0, 1], tool.ring[0, 0])
-    c, s = np.cos(phi), np.sin(phi)
-    turn = np.zeros((len(phi), 3, 3))
-    turn[:, 0, 0], turn[:, 0, 1], turn[:, 1, 0], turn[:, 1, 1], turn[:, 2, 2] = c, -s, s, c, 1.0
-    out = frames_.copy()
-    out[:, :, :3] = rot @ turn
-    return out
-
-
 def side_lines(frames_: np.ndarray, omega: np.ndarray, tool: Prism, reach: np.ndarray,
                blank: np.ndarray) -> SideLines:
     """Side lines of every pose (frames (n, 3, 4), tool to work): the prism's edges along the

@@ -29,7 +29,6 @@ from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, clip, shape, sweep_shape
 from vmach.stock.fan import (
     NO_FANS,
-    aligned,
     bridge,
     hull_planes,
     material_points,
@@ -43,7 +42,7 @@ from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
 from vmach.tol import tol
 from vmach.tooling.model import Tool
-from vmach.tooling.solid import ToolSolid, frames, place, tool_solid
+from vmach.tooling.solid import ToolSolid, frames, lateral, place, spun, tool_solid
 
 EXPORT_FORMATS = (".stl", ".3mf", ".ply")
 
@@ -92,6 +91,16 @@ def _clip_grouped(sh: Shape, fr: np.ndarray, boxes: np.ndarray):
             out[r] = q
             inside[r] = i
     return out, inside
+
+
+def _run_frames(tips: np.ndarray, axes: np.ndarray, a: int, b: int, segments: int):
+    """Frames (3, 4) of a translation run's two extreme poses a, b: the same turn about the
+    (common) axis, with the polygon exact toward the run's own lateral direction
+    (:func:`vmach.tooling.solid.spun`)."""
+    ab = [a, b]
+    side = lateral(tips[ab], axes[ab])
+    fr = spun(frames(tips[ab], axes[ab]), np.repeat(side[:1], 2, axis=0), segments)
+    return fr[0], fr[1]
 
 
 def _outside_runs(poses: np.ndarray, runs: np.ndarray) -> np.ndarray:
@@ -240,7 +249,9 @@ class Stock:
     def _sweep(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray):
         """Yield (tool solid, jobs) for consecutive stretches of a path, in path order. A job
         is ``(piece, frames (m, 3, 4) of placed poses, [(frame_a, frame_b) of each translation
-        run], [(tips, axes, omega) of each fan run — piece 0 only])``."""
+        run], [(tips, axes, omega, frames) of each fan run — piece 0 only])``. Every pose is
+        turned about its axis so that the tool's polygon is exact toward the sides of its
+        travel (:func:`vmach.tooling.solid.spun`)."""
         t0 = time.perf_counter()
         ts = tool if isinstance(tool, ToolSolid) else tool_solid(tool, self.chord)
         tips = np.asarray(tips, dtype=float).reshape(-1, 3)
@@ -254,7 +265,7 @@ class Stock:
         if len(tips) == 0:
             return
         sp = plan(tips, axes)
-        fr = frames(tips, axes)
+        fr = spun(frames(tips, axes), lateral(tips, axes), ts.segments)
         if self.trim:
             t1 = time.perf_counter()
             self._boxes(np.zeros(0), np.zeros(0), fresh=True)    # trim slabs of the stock now
@@ -278,9 +289,9 @@ class Stock:
             part = order[c0 : c0 + self.CHUNK]
             chunk_poses = poses[which[part][kind[part] == 0]]
             ends = [run_extremes(tips, r) for r in sp.runs[which[part][kind[part] == 1]]]
-            fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f])
+            fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f], fr[a : b + 1])
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
-            jobs = [(k, fr[chunk_poses], [(fr[a], fr[b]) for a, b in ends],
+            jobs = [(k, fr[chunk_poses], [_run_frames(tips, axes, a, b, ts.segments) for a, b in ends],
                      fan_jobs if k == 0 else [])
                     for k in range(len(ts.pieces))]
             self.stats.sweep_seconds += time.perf_counter() - t0
@@ -332,9 +343,9 @@ class Stock:
     def _fan_cutters(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, omega: np.ndarray,
                      fr: np.ndarray, box: np.ndarray, trimmed: list) -> list[tuple[engine.Solid, np.ndarray]]:
         """The cutters of one candidate fan run (:mod:`vmach.stock.fan`): [(solid, box (2, 3)),
-        ...]. ``fr`` (n, 3, 4): its poses' frames, turned to one polygon phase
-        (:func:`vmach.stock.fan.aligned`); ``box`` (2, 3): its trim box; ``trimmed``: its poses
-        clipped to it.
+        ...]. ``fr`` (n, 3, 4): its poses' frames, as placed poses have them (turned so that the
+        polygon is exact to both sides of the travel, :func:`vmach.tooling.solid.spun`);
+        ``box`` (2, 3): its trim box; ``trimmed``: its poses clipped to it.
 
         A fan's H is the hull of its poses each trimmed to the box: inside the box it holds
         every trimmed pose (so the fan removes at least what they would) and lies in the hull
@@ -394,7 +405,7 @@ class Stock:
             if hull is None:
                 self.stats.culled += 1
             elif gap > tol_:                # two steps still too twisted: placed poses, as made
-                own, _ = clip(self._tool_shapes(ts)[0], frames(tips[i : j + 1], unit[i : j + 1]), *box)
+                own, _ = clip(self._tool_shapes(ts)[0], fr[i : j + 1], *box)
                 out += [(engine.hull(k), np.stack([k.min(axis=0), k.max(axis=0)]))
                         for k in own if k is not None]
             else:
@@ -423,16 +434,14 @@ class Stock:
         if not fan_jobs:
             return []
         out = []
-        pr = self._prism(ts)
-        fan_fr = [aligned(frames(t, a / np.linalg.norm(a, axis=1, keepdims=True)), w, pr)
-                  for t, a, w in fan_jobs]
+        fan_fr = [f for _, _, _, f in fan_jobs]
         z = [place(ts.pieces[0], f)[:, :, 2] for f in fan_fr]
         fan_box = self._boxes(np.array([v.min() for v in z]), np.array([v.max() for v in z]))
         sizes = [len(f) for f in fan_fr]
         trimmed, _ = _clip_grouped(self._tool_shapes(ts)[0], np.concatenate(fan_fr),
                                    np.repeat(fan_box, sizes, axis=0))
         starts = np.cumsum([0, *sizes])
-        for f, (tips, axes, omega) in enumerate(fan_jobs):
+        for f, (tips, axes, omega, _) in enumerate(fan_jobs):
             out += self._fan_cutters(ts, tips, axes, omega, fan_fr[f], fan_box[f],
                                      trimmed[starts[f] : starts[f + 1]])
         return out

@@ -8,7 +8,15 @@ pieces, each convex, so that a translation sweep can use one convex hull per pie
 Polygonisation: a circle of radius r becomes an n-gon whose vertices lie at
 ``r_v = 2r / (1 + cos(π/n))``, so the polygon straddles the circle and deviates from it by at
 most ``r_v·(1 − cos(π/n)) / 2`` either way; ``n`` is the smallest count that keeps this within
-the chord tolerance at the largest radius (:func:`segments_for`).
+the chord tolerance at the largest radius (:func:`segments_for`), rounded up to a multiple of 4.
+
+Phase: a solid of revolution may turn freely about its axis; its polygon may not. The
+polygon's support toward a direction at angle φ from a vertex is ``r_v·cos φ``, which equals
+the true radius at ``φ* = arccos((1 + cos(π/n)) / 2)`` (:func:`exact_phase`). :func:`spun`
+turns each pose so that a vertex lies φ* from the *lateral* direction of its motion (the tool
+axis × the travel): then the walls, floors and shoulders the side sweeps as it travels lie
+exactly where the true tool puts them — on both sides, and (n a multiple of 4) also at the
+front and back. Other directions keep the ±deviation above.
 """
 
 from __future__ import annotations
@@ -23,11 +31,19 @@ from vmach.tooling.model import Tool
 
 
 def segments_for(radius: float, chord: float = tol.tool_chord, minimum: int = 12) -> int:
-    """Smallest polygon count whose straddling polygon stays within ``chord`` of the circle."""
+    """Smallest polygon count, a multiple of 4, whose straddling polygon stays within
+    ``chord`` of the circle (a multiple of 4: :func:`spun` makes four directions exact)."""
     if radius <= 0:
         return minimum
     c = max(-1.0, 1.0 - 2.0 * chord / radius)
-    return max(minimum, math.ceil(math.pi / math.acos(c)))
+    n = max(minimum, math.ceil(math.pi / math.acos(c)))
+    return -(-n // 4) * 4
+
+
+def exact_phase(segments: int) -> float:
+    """Angle (radians) from a vertex of the straddling ``segments``-gon toward which its
+    support is the true radius: ``cos φ* = r / r_v = (1 + cos(π/n)) / 2``."""
+    return math.acos((1.0 + math.cos(math.pi / segments)) / 2.0)
 
 
 def polygon_deviation(radius: float, segments: int) -> float:
@@ -165,6 +181,50 @@ def frames(tips: np.ndarray, axes: np.ndarray) -> np.ndarray:
     out = np.empty((n, 3, 4))
     out[:, :, :3] = rot
     out[:, :, 3] = tips
+    return out
+
+
+def lateral(tips: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """Lateral directions (n, 3) of the poses of a path — the unit ``axis × travel``, with the
+    travel at pose i taken from pose i-1 to pose i+1 (one-sided at the ends); where the tip
+    does not move, the travel of the axis. Zero where neither moves or the travel is along the
+    axis (a plunge: no side is preferred)."""
+    tips = np.asarray(tips, dtype=float).reshape(-1, 3)
+    a = np.asarray(axes, dtype=float).reshape(-1, 3)
+    a = a / np.linalg.norm(a, axis=1, keepdims=True)
+    if len(tips) < 2:
+        return np.zeros_like(tips)
+    idx = np.arange(len(tips))
+    nxt, prv = np.minimum(idx + 1, len(tips) - 1), np.maximum(idx - 1, 0)
+    d = tips[nxt] - tips[prv]
+    still = np.linalg.norm(d, axis=1) <= 1e-9
+    d[still] = (a[nxt] - a[prv])[still]
+    out = np.cross(a, d)
+    length = np.linalg.norm(out, axis=1)
+    scale = np.linalg.norm(d, axis=1)
+    good = length > 1e-9 * np.maximum(scale, 1e-12)
+    out[good] /= length[good][:, None]
+    out[~good] = 0.0
+    return out
+
+
+def spun(frames_: np.ndarray, side: np.ndarray, segments: int) -> np.ndarray:
+    """Frames (n, 3, 4) turned about their own tool axis so that the polygon of a
+    :func:`ring_points` solid reaches exactly the true radius toward ±side (n, 3) (unit,
+    perpendicular to the axis; rows of zeros leave their frame as it is) and, ``segments``
+    a multiple of 4, toward the two directions perpendicular to it (:func:`exact_phase`)."""
+    rot = frames_[:, :, :3]
+    side = np.asarray(side, dtype=float).reshape(-1, 3)
+    local = np.einsum("nji,nj->ni", rot, side)                 # side in each tool frame
+    psi = np.arctan2(local[:, 1], local[:, 0])
+    # ring_points puts vertex 0 at angle pi/n: turn it to psi + phi*
+    beta = np.where(np.hypot(local[:, 0], local[:, 1]) > 1e-9,
+                    psi + exact_phase(segments) - math.pi / segments, 0.0)
+    c, s = np.cos(beta), np.sin(beta)
+    turn = np.zeros((len(beta), 3, 3))
+    turn[:, 0, 0], turn[:, 0, 1], turn[:, 1, 0], turn[:, 1, 1], turn[:, 2, 2] = c, -s, s, c, 1.0
+    out = np.array(frames_, dtype=float, copy=True)
+    out[:, :, :3] = rot @ turn
     return out
 
 
