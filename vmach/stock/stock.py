@@ -42,7 +42,7 @@ from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
 from vmach.tol import tol
 from vmach.tooling.model import Tool
-from vmach.tooling.solid import ToolSolid, frames, lateral, place, spun, tool_solid
+from vmach.tooling.solid import ToolSolid, across, frames, lateral, place, spun, tool_solid
 
 EXPORT_FORMATS = (".stl", ".3mf", ".ply")
 
@@ -93,14 +93,19 @@ def _clip_grouped(sh: Shape, fr: np.ndarray, boxes: np.ndarray):
     return out, inside
 
 
-def _run_frames(tips: np.ndarray, axes: np.ndarray, a: int, b: int, segments: int):
-    """Frames (3, 4) of a translation run's two extreme poses a, b: the same turn about the
-    (common) axis, with the polygon exact toward the run's own lateral direction
-    (:func:`vmach.tooling.solid.spun`)."""
-    ab = [a, b]
-    side = lateral(tips[ab], axes[ab])
-    fr = spun(frames(tips[ab], axes[ab]), np.repeat(side[:1], 2, axis=0), segments)
-    return fr[0], fr[1]
+def _run_frames(tips: np.ndarray, axes: np.ndarray, ends: list, segments: int) -> list:
+    """Frames ((3, 4), (3, 4)) of each translation run's two extreme poses (a, b) in ``ends``:
+    the same turn about the (common) axis, with the polygon exact toward the run's own
+    lateral direction (:func:`vmach.tooling.solid.spun`)."""
+    if not ends:
+        return []
+    ab = np.asarray(ends, dtype=int)                                        # (r, 2)
+    a, b = ab[:, 0], ab[:, 1]
+    unit = axes[a] / np.linalg.norm(axes[a], axis=1, keepdims=True)
+    side = np.repeat(across(unit, tips[b] - tips[a]), 2, axis=0)
+    pair = np.stack([tips[a], tips[b]], axis=1).reshape(-1, 3)             # a0 b0 a1 b1 ...
+    fr = spun(frames(pair, np.repeat(axes[a], 2, axis=0)), side, segments)
+    return list(zip(fr[0::2], fr[1::2], strict=True))
 
 
 def _outside_runs(poses: np.ndarray, runs: np.ndarray) -> np.ndarray:
@@ -291,7 +296,7 @@ class Stock:
             ends = [run_extremes(tips, r) for r in sp.runs[which[part][kind[part] == 1]]]
             fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f], fr[a : b + 1])
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
-            jobs = [(k, fr[chunk_poses], [_run_frames(tips, axes, a, b, ts.segments) for a, b in ends],
+            jobs = [(k, fr[chunk_poses], _run_frames(tips, axes, ends, ts.segments),
                      fan_jobs if k == 0 else [])
                     for k in range(len(ts.pieces))]
             self.stats.sweep_seconds += time.perf_counter() - t0

@@ -185,10 +185,9 @@ def frames(tips: np.ndarray, axes: np.ndarray) -> np.ndarray:
 
 
 def lateral(tips: np.ndarray, axes: np.ndarray) -> np.ndarray:
-    """Lateral directions (n, 3) of the poses of a path — the unit ``axis × travel``, with the
-    travel at pose i taken from pose i-1 to pose i+1 (one-sided at the ends); where the tip
-    does not move, the travel of the axis. Zero where neither moves or the travel is along the
-    axis (a plunge: no side is preferred)."""
+    """Lateral directions (n, 3) of the poses of a path (:func:`across`), with the travel at
+    pose i taken from pose i-1 to pose i+1 (one-sided at the ends); where the tip does not
+    move, the travel of the axis."""
     tips = np.asarray(tips, dtype=float).reshape(-1, 3)
     a = np.asarray(axes, dtype=float).reshape(-1, 3)
     a = a / np.linalg.norm(a, axis=1, keepdims=True)
@@ -199,10 +198,16 @@ def lateral(tips: np.ndarray, axes: np.ndarray) -> np.ndarray:
     d = tips[nxt] - tips[prv]
     still = np.linalg.norm(d, axis=1) <= 1e-9
     d[still] = (a[nxt] - a[prv])[still]
-    out = np.cross(a, d)
+    return across(a, d)
+
+
+def across(axes: np.ndarray, travel: np.ndarray) -> np.ndarray:
+    """Unit ``axis × travel`` (n, 3) for unit axes and travel vectors (n, 3): the direction
+    across the travel in which the tool's side makes its walls. Zero where the travel is
+    nil or along the axis (a plunge: no side is preferred)."""
+    out = np.cross(axes, travel)
     length = np.linalg.norm(out, axis=1)
-    scale = np.linalg.norm(d, axis=1)
-    good = length > 1e-9 * np.maximum(scale, 1e-12)
+    good = length > 1e-9 * np.maximum(np.linalg.norm(travel, axis=1), 1e-12)
     out[good] /= length[good][:, None]
     out[~good] = 0.0
     return out
