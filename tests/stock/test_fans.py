@@ -14,7 +14,7 @@ import pytest
 
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
-from vmach.stock.fan import plan_fans, prism
+from vmach.stock.fan import EPS, plan_fans, prism
 from vmach.tol import tol
 from vmach.tooling import Tool, tool_solid
 
@@ -217,3 +217,92 @@ def test_random_rotary_runs_stay_within_the_bound_against_dense_placed_poses(lib
             o, e = (40 * np.cos(phi), 40 * np.sin(phi), z), (0.0, 0.0, z)
             a, b = fans.solid.ray_cast(o, e)[0].distance, cuts["dense"].solid.ray_cast(o, e)[0].distance
             assert a <= b + 1e-5            # the fans' flank is not deeper than the dense cut's
+
+
+def _zigzag(x, y, z, c, sub):
+    """Facing-style poses: at each index the workpiece turns (C to the next value, the tool's
+    X/Y kept; ``sub`` samples per turn), then the tool slides to the next X/Y at that C."""
+    xs, ys, zs, cs = [x[0]], [y[0]], [z[0]], [c[0]]
+    for k in range(1, len(c)):
+        for t in np.arange(1, sub + 1) / sub:
+            xs.append(x[k - 1]), ys.append(y[k - 1]), zs.append(z[k - 1] + (z[k] - z[k - 1]) * t)
+            cs.append(c[k - 1] + (c[k] - c[k - 1]) * t)
+        xs.append(x[k]), ys.append(y[k]), zs.append(z[k]), cs.append(c[k])
+    return turnmill(np.array(xs), np.array(ys), np.array(zs), np.array(cs))
+
+
+def _zigzag_case(seed):
+    """A random facing pass of the D40 face mill near X = 24 (see _zigzag): a convex
+    profile or, for odd seeds, one with random notches that make the chain concave; random
+    Y slides (back and forth along the travel) and a random pitch on the turns."""
+    rng = np.random.default_rng(seed)
+    k = int(rng.integers(2, 5))
+    amp = rng.uniform(0.0, 0.8) * 24.0 / (k * k - 1)
+    sense, n, step = rng.choice([-1.0, 1.0]), 30, 1.713
+    c = sense * np.arange(n + 1) * step
+    x = 24.0 + amp * np.sin(np.radians(k * c))
+    if seed % 2:
+        x = x - rng.choice([0.0, 0.0, 0.0, 0.3], size=n + 1) * rng.uniform(0.2, 1.0)
+    y = rng.uniform(-0.5, 0.5, size=n + 1)
+    z = -20.0 + rng.uniform(-0.01, 0.01) * np.arange(n + 1)
+    return (x, y, z, c), np.radians(sense * np.linspace(3, n * step - 3, 120))
+
+
+def _fan_and_dense(tool, xyzc, blank, plain=False):
+    """The pass cut with fans, and without them 8× denser (and, with ``plain``, at the same
+    samples)."""
+    cuts = []
+    for sub, kw in ((1, {}), (8, {"fans": False})) + (((1, {"fans": False}),) if plain else ()):
+        # the side's floor is exact for any polygon (turned to the travel): a coarser one will do
+        stock = Stock.from_spec(blank, chord=0.002, **kw)
+        stock.cut(tool, *_zigzag(*xyzc, sub))
+        cuts.append(stock)
+    return cuts
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3, 4, 5, 6])
+def test_random_zigzag_runs_stay_within_the_bound_against_a_dense_cut(library, seed):
+    """Fans over turns with straight slides between them (a facing pass: index C, move X/Y,
+    index again), cut by fans and, without fans, with every turn sampled 8× denser and every
+    slide a translation hull (exact). On a Ø56 blank the face mill's back face (X + 5.5) is
+    beyond the stock, so fans may be used: their floor is nowhere deeper than the dense cut's
+    by more than their bound, their flank nowhere deeper at all (beyond eps), and they remove
+    all that the same samples remove without fans, and more (the side's cusps)."""
+    tool = library.lookup("GLOD D40")
+    xyzc, phis = _zigzag_case(seed)
+    fans, dense, plain = _fan_and_dense(tool, xyzc, "cylinder:d=56,l=60", plain=True)
+    assert fans.stats.fans > 0
+    rs = np.array([26.6, 27.1, 27.7])        # beyond the flank (X <= 26.3), inside the blank
+    lo_f = floor_hits(fans.solid, phis, rs, top=-10.0)
+    lo_d = floor_hits(dense.solid, phis, rs, top=-10.0)
+    assert np.nanmax(lo_d - lo_f) <= fans.stats.fan_overcut_mm + 1e-5
+    for zz in (-25.0, -20.0, -15.0):
+        for phi in phis[::4]:
+            o, e = (40 * np.cos(phi), 40 * np.sin(phi), zz), (0.0, 0.0, zz)
+            a, b = fans.solid.ray_cast(o, e)[0].distance, dense.solid.ray_cast(o, e)[0].distance
+            assert a <= b + 1e-5            # the fans' flank is not deeper than the dense cut's
+    # the fans hold the poses the plain cut places and the slides' hulls: they remove more
+    assert engine.volume(fans.solid) < engine.volume(plain.solid)
+    # (up to the eps by which M is moved out, over at most every pose's face)
+    left = engine.volume(engine.subtract(fans.solid, [plain.solid]))
+    assert left < EPS * (2 * tool.radius) ** 2 * fans.stats.poses
+
+
+def test_fans_are_not_used_where_the_tools_back_lies_in_the_stock(library, monkeypatch):
+    """The same facing pass on a Ø60 blank: the face mill's back face (X + 5.5 < 30) lies in
+    the material, where the hull would fill the notches between neighbouring back faces —
+    so no fans. Forced anyway, the fans cut the floor behind the tool deeper than the dense
+    cut by several times their bound: the condition is what keeps them right."""
+    import vmach.stock.stock as stock_module
+
+    tool = library.lookup("GLOD D40")
+    xyzc, phis = _zigzag_case(2)
+    fans, dense = _fan_and_dense(tool, xyzc, "cylinder:d=60,l=60")
+    assert fans.stats.fans == 0
+    assert engine.volume(fans.solid) >= engine.volume(dense.solid) - 1e-9
+    monkeypatch.setattr(stock_module, "back_clear", lambda tips, *a: np.ones(len(tips), bool))
+    forced, _ = _fan_and_dense(tool, xyzc, "cylinder:d=60,l=60")
+    assert forced.stats.fans > 0
+    rs = np.array([27.0, 28.5, 29.5])
+    over = floor_hits(dense.solid, phis, rs, top=-10.0) - floor_hits(forced.solid, phis, rs, top=-10.0)
+    assert np.nanmax(over) > 3 * forced.stats.fan_overcut_mm

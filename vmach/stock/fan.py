@@ -116,14 +116,22 @@ def _exit(p: np.ndarray, d: np.ndarray, planes: np.ndarray, limit: float) -> np.
 
 
 def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Prism, *,
-              max_angle: float = tol.fan_angle) -> FanPlan:
-    """Candidate fan runs of a path: maximal stretches of rotary steps that meet the
-    conditions of the module docstring, each turning the axis by at most ``max_angle``.
-    The twist is not judged here: the cutter of a run is measured once made and the run cut
-    shorter where it bridges too much (:class:`vmach.stock.Stock`).
+              max_angle: float = tol.fan_angle, slides: np.ndarray | None = None,
+              clear: np.ndarray | None = None) -> FanPlan:
+    """Candidate fan runs of a path: maximal stretches of rotary steps — and, where
+    ``slides`` (n-1,) bool allows, of steps that keep the axis and move the tool perpendicular
+    to the rotation axis in between (a facing pass that indexes the workpiece and moves the
+    tool in turn) — that meet the conditions of the module docstring, each turning the axis
+    by at most ``max_angle`` and holding at least two rotary steps. Poses joined by slides
+    share an axis; their lowest face is the one the chain is judged by (M lies below it; the
+    others' faces are parallel and above, and the slide between them is a translation, whose
+    hull is its exact sweep). The twist is not judged here: the cutter of a run is measured
+    once made and the run cut shorter where it bridges too much (:class:`vmach.stock.Stock`).
 
     tips, axes : (n, 3) float — poses (work frame, unit axes). rotary : (n-1,) bool — steps
-    that turn the axis. tool : the prism. Steps not in a run are left to placed poses.
+    that turn the axis. tool : the prism. clear : (n,) bool — poses whose far end (the
+    prism's back face) lies beyond the stock (:func:`back_clear`); only steps between two
+    such poses join a run. Steps not in a run are left to placed poses and translation hulls.
     """
     tips = np.asarray(tips, dtype=float)
     a = np.asarray(axes, dtype=float)
@@ -133,37 +141,58 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     cross = np.cross(a[:-1], a[1:])
     sin = np.linalg.norm(cross, axis=1)
     angle = np.degrees(np.arctan2(sin, np.einsum("ij,ij->i", a[:-1], a[1:])))
-    turn = np.asarray(rotary, bool) & (sin > 1e-12)
+    ends = np.ones(n, bool) if clear is None else np.asarray(clear, bool)
+    both = ends[:-1] & ends[1:]
+    turn = np.asarray(rotary, bool) & (sin > 1e-12) & both
+    slide = np.zeros(n - 1, bool) if slides is None else np.asarray(slides, bool)
+    slide = slide & (sin <= 1e-12) & both & ~turn
     w = np.zeros_like(cross)
     w[turn] = cross[turn] / sin[turn][:, None]
-    s_fwd, s_back = _creases(tips, a, w)
+    # groups of poses joined by slides; each group's face is its lowest (smallest tip·axis)
+    group = np.r_[0, np.cumsum(~slide)]
+    h = np.einsum("ij,ij->i", tips, a)
+    order = np.lexsort((h, group))
+    first = np.r_[True, group[order][1:] != group[order][:-1]]
+    rep = np.empty(group[-1] + 1, int)
+    rep[group[order][first]] = order[first]
+    lo, hi = rep[group[:-1]], rep[group[1:]]                 # a step's two groups' faces
+    s_fwd, s_back = _creases(tips[lo], a[lo], tips[hi], a[hi], w)
+    scale = max(1.0, float(np.abs(tips).max()))
     r = tool.radius
     # a step is a fan candidate when it turns, both axes are perpendicular to its rotation
-    # axis, and the crease of the two face lines lies inside both faces
+    # axis, and the crease of the two (lowest) face lines lies inside both faces
     ok = turn & (np.abs(s_fwd) <= r) & (np.abs(s_back) <= r)
     ok &= np.abs(np.einsum("ij,ij->i", a[:-1], w)) <= PARALLEL
     ok &= np.abs(np.einsum("ij,ij->i", a[1:], w)) <= PARALLEL
-    # steps that may follow the previous one in the same run: same rotation axis, and on the
-    # shared face line the crease with the pose before comes before the crease with the next
-    chain = np.zeros(len(ok), bool)
-    chain[1:] = (ok[1:] & ok[:-1] & (np.linalg.norm(w[1:] - w[:-1], axis=1) <= PARALLEL)
-                 & (s_back[:-1] <= s_fwd[1:] + 1e-9))
+    move = tips[1:] - tips[:-1]
     runs: list[tuple[int, int]] = []
     i = 0
     while i < n - 1:
         if not ok[i]:
             i += 1
             continue
-        j = i + 1
+        omega = w[i]
         total = float(angle[i])
-        while (j < n - 1 and chain[j] and total + angle[j] <= max_angle
-               and np.linalg.norm(w[j] - w[i]) <= PARALLEL):
+        turns, last = 1, i                                  # last: the run's last rotary step
+        j = i + 1
+        while j < n - 1:
+            if slide[j]:
+                if abs(float(move[j] @ omega)) > 1e-9 * scale or abs(float(a[j] @ omega)) > PARALLEL:
+                    break
+                j += 1
+                continue
+            # same rotation axis, and on the shared (lowest) face line the crease with the
+            # group before comes before the crease with the group after
+            if not (ok[j] and np.linalg.norm(w[j] - omega) <= PARALLEL and total + angle[j] <= max_angle
+                    and s_back[last] <= s_fwd[j] + 1e-9):
+                break
             total += float(angle[j])
+            turns, last = turns + 1, j
             j += 1
-        if j - i < 2:
-            # a run needs two steps: only then do its axes span the plane it turns in, and
-            # has it a face between two creases whose order tells a convex chain
-            i += 1
+        if turns < 2:
+            # a run needs two rotary steps: only then do its axes span the plane it turns in,
+            # and has it a face between two creases whose order tells a convex chain
+            i = last + 1
             continue
         runs.append((i, j))
         i = j
@@ -171,6 +200,21 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
         return NO_FANS
     ru = np.asarray(runs, dtype=int)
     return FanPlan(ru, w[ru[:, 0]])
+
+
+def back_clear(tips: np.ndarray, axes: np.ndarray, tool: Prism, solid: np.ndarray) -> np.ndarray:
+    """(n,) bool: poses (tips, unit axes (n, 3)) whose prism has the whole of ``solid`` (its
+    vertices (v, 3): the blank, which holds the stock) behind its back face.
+
+    Why fans need it: the tools of a run stand side by side like the faces of a fan; seen
+    from behind, their back faces meet in notches (two neighbouring back faces cross at a
+    small angle), and the hull fills those notches, where no pose reaches. In front, M takes
+    the like wedges below the faces away; behind, nothing would — so a run is fanned only
+    where the notches lie outside the material (a long end mill on a shaft; a face mill
+    whose back face is beyond the blank)."""
+    reach = np.einsum("ij,ij->i", tips, axes) + tool.length
+    support = (axes @ np.asarray(solid, dtype=float).T).max(axis=1)
+    return support <= reach
 
 
 @dataclass(frozen=True)
@@ -265,22 +309,23 @@ def hull_planes(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return np.column_stack([n, np.einsum("ij,ij->i", n, a[good])])
 
 
-def _creases(tips: np.ndarray, axes: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """For each step k -> k+1: where the face lines k and k+1 cross (in the plane
-    perpendicular to the step's rotation axis w_k), as offsets along line k from tip k
-    (s_fwd) and along line k+1 from tip k+1 (s_back), in the direction of travel t = w × n.
+def _creases(tips0: np.ndarray, axes0: np.ndarray, tips1: np.ndarray, axes1: np.ndarray,
+             w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each step from face 0 to face 1 (tips, axes (m, 3)): where the two face lines cross
+    (in the plane perpendicular to the step's rotation axis w), as offsets along line 0 from
+    tip 0 (s_fwd) and along line 1 from tip 1 (s_back), in the direction of travel t = w × n.
 
-    Line k is {tip_k + s·t_k}; it meets plane k+1 where (tip_k + s·t_k)·n_{k+1} = h_{k+1},
-    and t_k·n_{k+1} = sin δ (t_{k+1}·n_k = −sin δ). Steps without a turn get +inf."""
-    t0 = np.cross(w, axes[:-1])
-    t1 = np.cross(w, axes[1:])
-    h0 = np.einsum("ij,ij->i", tips[:-1], axes[:-1])
-    h1 = np.einsum("ij,ij->i", tips[1:], axes[1:])
-    d0 = np.einsum("ij,ij->i", t0, axes[1:])
-    d1 = np.einsum("ij,ij->i", t1, axes[:-1])
+    Line 0 is {tip0 + s·t0}; it meets plane 1 where (tip0 + s·t0)·n1 = h1, and t0·n1 = sin δ
+    (t1·n0 = −sin δ). Steps without a turn get +inf."""
+    t0 = np.cross(w, axes0)
+    t1 = np.cross(w, axes1)
+    h0 = np.einsum("ij,ij->i", tips0, axes0)
+    h1 = np.einsum("ij,ij->i", tips1, axes1)
+    d0 = np.einsum("ij,ij->i", t0, axes1)
+    d1 = np.einsum("ij,ij->i", t1, axes0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        s_fwd = np.where(d0 > 1e-15, (h1 - np.einsum("ij,ij->i", tips[:-1], axes[1:])) / d0, np.inf)
-        s_back = np.where(d1 < -1e-15, (h0 - np.einsum("ij,ij->i", tips[1:], axes[:-1])) / d1, np.inf)
+        s_fwd = np.where(d0 > 1e-15, (h1 - np.einsum("ij,ij->i", tips0, axes1)) / d0, np.inf)
+        s_back = np.where(d1 < -1e-15, (h0 - np.einsum("ij,ij->i", tips1, axes0)) / d1, np.inf)
     return s_fwd, s_back
 
 

@@ -29,6 +29,7 @@ from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, clip, shape, sweep_shape
 from vmach.stock.fan import (
     NO_FANS,
+    back_clear,
     bridge,
     hull_planes,
     material_points,
@@ -108,6 +109,17 @@ def _run_frames(tips: np.ndarray, axes: np.ndarray, ends: list, segments: int) -
     return list(zip(fr[0::2], fr[1::2], strict=True))
 
 
+def _within(runs: np.ndarray, outer: np.ndarray) -> np.ndarray:
+    """(r,) bool: which runs [first, last] (r, 2) lie wholly within one of the ``outer`` runs
+    (f, 2) (every step of the run is one of its steps)."""
+    if len(runs) == 0 or len(outer) == 0:
+        return np.zeros(len(runs), bool)
+    k = np.searchsorted(outer[:, 0], runs[:, 0], side="right") - 1   # outer runs are in order
+    ok = k >= 0
+    kk = np.maximum(k, 0)
+    return ok & (outer[kk, 0] <= runs[:, 0]) & (runs[:, 1] <= outer[kk, 1])
+
+
 def _outside_runs(poses: np.ndarray, runs: np.ndarray) -> np.ndarray:
     """Placed poses not on a translation run: the run's hull (the tool swept along the run's
     segment, same axis) already contains the tool at every pose of the run."""
@@ -157,6 +169,7 @@ class Stock:
         self.fans = fans and trim
         self.fan_overcut = fan_overcut
         self._blank_planes: np.ndarray | None = None
+        self._blank_points: np.ndarray | None = None   # (v, 3) the blank's hull vertices
         self._slabs: Slabs | None = None
         self._fan_guess = 8         # poses of the last fan that fitted
         self._slabs_at = -1         # batches done when the slabs were taken
@@ -279,21 +292,22 @@ class Stock:
         if self.trim:
             poses = _outside_runs(poses, sp.runs)
             self.stats.covered += (len(sp.poses) - len(poses)) * len(ts.pieces)
-        # fans only where poses would be placed: a rotary step whose two poses lie on
-        # translation hulls (a C index between straight cuts) costs nothing as it is
-        placed = np.zeros(len(tips), bool)
-        placed[poses] = True
-        fans = self._fans(ts, tips, axes, (sp.angles > tol.hull_angle) & (placed[:-1] | placed[1:]))
+        # fan runs over rotary steps and the straight steps between them (fan.plan_fans);
+        # the placed poses and translation runs they hold are left out
+        rotary = sp.angles > tol.hull_angle
+        fans = self._fans(ts, tips, axes, rotary, ~rotary)
+        runs = sp.runs
         if len(fans.runs):
             poses = _outside_runs(poses, fans.runs)
-        start = np.concatenate([poses, sp.runs[:, 0].astype(int), fans.runs[:, 0]])
-        kind = np.r_[np.zeros(len(poses), int), np.ones(len(sp.runs), int), np.full(len(fans.runs), 2)]
-        which = np.r_[np.arange(len(poses)), np.arange(len(sp.runs)), np.arange(len(fans.runs))].astype(int)
+            runs = runs[~_within(runs, fans.runs)]
+        start = np.concatenate([poses, runs[:, 0].astype(int), fans.runs[:, 0]])
+        kind = np.r_[np.zeros(len(poses), int), np.ones(len(runs), int), np.full(len(fans.runs), 2)]
+        which = np.r_[np.arange(len(poses)), np.arange(len(runs)), np.arange(len(fans.runs))].astype(int)
         order = np.argsort(start, kind="stable")
         for c0 in range(0, len(order), self.CHUNK):
             part = order[c0 : c0 + self.CHUNK]
             chunk_poses = poses[which[part][kind[part] == 0]]
-            ends = [run_extremes(tips, r) for r in sp.runs[which[part][kind[part] == 1]]]
+            ends = [run_extremes(tips, r) for r in runs[which[part][kind[part] == 1]]]
             fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f], fr[a : b + 1])
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
             jobs = [(k, fr[chunk_poses], _run_frames(tips, axes, ends, ts.segments),
@@ -304,18 +318,22 @@ class Stock:
             t0 = time.perf_counter()
         self.stats.sweep_seconds += time.perf_counter() - t0
 
-    def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray):
-        """Candidate fan runs over the ``rotary`` steps (n-1,) bool of a path
-        (:func:`vmach.stock.fan.plan_fans`; none unless the tool is one flat-faced prism and
-        fans are on)."""
+    def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray,
+              slides: np.ndarray):
+        """Candidate fan runs over the ``rotary`` steps (n-1,) bool of a path and the
+        ``slides`` between them (:func:`vmach.stock.fan.plan_fans`; none unless the tool is one
+        flat-faced prism and fans are on)."""
         pr = self._prism(ts) if self.fans else None
         if pr is None:
             return NO_FANS
         if self._blank_planes is None:
             v, _ = engine.to_mesh(self.initial, double=True)
-            self._blank_planes = shape(*engine.hull_mesh(v)).planes
+            hv, hf = engine.hull_mesh(v)
+            self._blank_planes = shape(hv, hf).planes
+            self._blank_points = hv
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-        return plan_fans(tips, unit, rotary, pr)
+        return plan_fans(tips, unit, rotary, pr, slides=slides,
+                         clear=back_clear(tips, unit, pr, self._blank_points))
 
     def _boxes(self, zlo: np.ndarray, zhi: np.ndarray, fresh: bool = False) -> np.ndarray:
         """Trim boxes (k, 2, 3) for cutters spanning Z ranges [zlo, zhi] (k,): the stock's
@@ -409,10 +427,14 @@ class Stock:
                 j, hull, gap, q = k, h2, g2, q2
             if hull is None:
                 self.stats.culled += 1
-            elif gap > tol_:                # two steps still too twisted: placed poses, as made
+            elif gap > tol_:                # two steps still too twisted: placed poses, as made,
                 own, _ = clip(self._tool_shapes(ts)[0], fr[i : j + 1], *box)
                 out += [(engine.hull(k), np.stack([k.min(axis=0), k.max(axis=0)]))
                         for k in own if k is not None]
+                # ... and translation hulls for its straight steps
+                straight = [(k, k + 1) for k in range(i, j)
+                            if np.linalg.norm(np.cross(unit[k], unit[k + 1])) <= 1e-12]
+                out += self._make_runs(ts, 0, _run_frames(tips, axes, straight, ts.segments))
             else:
                 m = material_points(tips[i : j + 1], unit[i : j + 1], omega, q)
                 out.append((engine.subtract(hull, [engine.hull(m)]) if m is not None else hull,
