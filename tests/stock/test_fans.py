@@ -9,12 +9,15 @@ run would exceed; and they are not used where the hull could bridge material no 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
 from vmach.stock.fan import EPS, plan_fans, prism
+from vmach.stock.sweep import scallop_bound
 from vmach.tol import tol
 from vmach.tooling import Tool, tool_solid
 
@@ -183,7 +186,8 @@ def test_a_run_that_cannot_fit_falls_back_to_placed_poses(helix_cut):
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_random_rotary_runs_stay_within_the_bound_against_dense_placed_poses(library, seed):
-    """Random turn-mill runs — a convex support-function profile X(C), a lateral offset Y,
+    """Random turn-mill runs — a convex support-function profile X(C), the tool centred on
+    the contact point (Y = X'(C)) give or take a lateral offset,
     a pitch along Z, either sense of rotation — cut by fans and by placed poses 8× denser
     (which approach the true sweep from inside): the fans' floor is nowhere deeper than the
     dense cut's by more than their reported bound plus twice the polygon's deviation (the
@@ -191,14 +195,15 @@ def test_random_rotary_runs_stay_within_the_bound_against_dense_placed_poses(lib
     rng = np.random.default_rng(seed)
     tool = library.lookup("GLOD D25")
     k = int(rng.integers(2, 5))
-    amp = rng.uniform(0.0, 0.8) * 24.0 / (k * k - 1)          # h + h'' > 0: a convex profile
-    pitch, y0, sense = rng.uniform(-0.02, 0.02), rng.uniform(-3, 3), rng.choice([-1.0, 1.0])
+    amp = rng.uniform(0.0, 0.6) * 24.0 / (k * k - 1)    # h + h" >= 0.4 h (P3G-50: 0.42)
+    pitch, y0, sense = rng.uniform(-0.02, 0.02), rng.uniform(-0.1, 0.1), rng.choice([-1.0, 1.0])
     n, step = 36, 1.713
 
     def path(sub):
         c = sense * np.arange(n * sub + 1) * step / sub
         x = 24.0 + amp * np.sin(np.radians(k * c))
-        return turnmill(x, y0, -6.0 + pitch * np.arange(n * sub + 1) / sub, c)
+        y = amp * k * np.cos(np.radians(k * c)) + y0      # the contact point h'(C), give or take
+        return turnmill(x, y, -6.0 + pitch * np.arange(n * sub + 1) / sub, c)
 
     cuts = {}
     for name, sub, kw in (("fans", 1, {}), ("dense", 8, {"fans": False})):
@@ -233,8 +238,9 @@ def _zigzag(x, y, z, c, sub):
 
 def _zigzag_case(seed):
     """A random facing pass of the D40 face mill near X = 24 (see _zigzag): a convex
-    profile or, for odd seeds, one with random notches that make the chain concave; random
-    Y slides (back and forth along the travel) and a random pitch on the turns."""
+    profile or, for odd seeds, one with random notches that make the chain concave; Y near
+    the contact point, jittered (back and forth along the travel), and a random pitch on the
+    turns."""
     rng = np.random.default_rng(seed)
     k = int(rng.integers(2, 5))
     amp = rng.uniform(0.0, 0.8) * 24.0 / (k * k - 1)
@@ -243,7 +249,7 @@ def _zigzag_case(seed):
     x = 24.0 + amp * np.sin(np.radians(k * c))
     if seed % 2:
         x = x - rng.choice([0.0, 0.0, 0.0, 0.3], size=n + 1) * rng.uniform(0.2, 1.0)
-    y = rng.uniform(-0.5, 0.5, size=n + 1)
+    y = amp * k * np.cos(np.radians(k * c)) + rng.uniform(-0.05, 0.05, size=n + 1)  # ~ the contact
     z = -20.0 + rng.uniform(-0.01, 0.01) * np.arange(n + 1)
     return (x, y, z, c), np.radians(sense * np.linspace(3, n * step - 3, 120))
 
@@ -267,7 +273,7 @@ def test_random_zigzag_runs_stay_within_the_bound_against_a_dense_cut(library, s
     slide a translation hull (exact). On a Ø56 blank the face mill's back face (X + 5.5) is
     beyond the stock, so fans may be used: their floor is nowhere deeper than the dense cut's
     by more than their bound, their flank nowhere deeper at all (beyond eps), and they remove
-    all that the same samples remove without fans, and more (the side's cusps)."""
+    all that the same samples remove without fans."""
     tool = library.lookup("GLOD D40")
     xyzc, phis = _zigzag_case(seed)
     fans, dense, plain = _fan_and_dense(tool, xyzc, "cylinder:d=56,l=60", plain=True)
@@ -275,15 +281,17 @@ def test_random_zigzag_runs_stay_within_the_bound_against_a_dense_cut(library, s
     rs = np.array([26.6, 27.1, 27.7])        # beyond the flank (X <= 26.3), inside the blank
     lo_f = floor_hits(fans.solid, phis, rs, top=-10.0)
     lo_d = floor_hits(dense.solid, phis, rs, top=-10.0)
-    assert np.nanmax(lo_d - lo_f) <= fans.stats.fan_overcut_mm + 1e-5
+    # (the two cuts turn their polygons to slightly different travel directions where the
+    # turns also climb: up to twice the polygon's deviation between them)
+    dev = tool_solid(tool, 0.002).deviation
+    assert np.nanmax(lo_d - lo_f) <= fans.stats.fan_overcut_mm + 2 * dev + 1e-6
     for zz in (-25.0, -20.0, -15.0):
         for phi in phis[::4]:
             o, e = (40 * np.cos(phi), 40 * np.sin(phi), zz), (0.0, 0.0, zz)
             a, b = fans.solid.ray_cast(o, e)[0].distance, dense.solid.ray_cast(o, e)[0].distance
             assert a <= b + 1e-5            # the fans' flank is not deeper than the dense cut's
-    # the fans hold the poses the plain cut places and the slides' hulls: they remove more
-    assert engine.volume(fans.solid) < engine.volume(plain.solid)
-    # (up to the eps by which M is moved out, over at most every pose's face)
+    # the fans hold the poses the plain cut places and the slides' hulls: they remove at
+    # least as much (up to the eps by which M is moved out, over at most every pose's face)
     left = engine.volume(engine.subtract(fans.solid, [plain.solid]))
     assert left < EPS * (2 * tool.radius) ** 2 * fans.stats.poses
 
@@ -306,3 +314,47 @@ def test_fans_are_not_used_where_the_tools_back_lies_in_the_stock(library, monke
     rs = np.array([27.0, 28.5, 29.5])
     over = floor_hits(dense.solid, phis, rs, top=-10.0) - floor_hits(forced.solid, phis, rs, top=-10.0)
     assert np.nanmax(over) > 3 * forced.stats.fan_overcut_mm
+
+
+@pytest.mark.parametrize("y0", [0.0, 3.0])
+def test_fans_keep_the_foot_a_face_rim_leaves(library, monkeypatch, y0):
+    """The D25 turned about the work axis at X = 26 with its centre Y = y0 off the contact
+    point. Toward the rim of its face (the disc narrows to its bottom point) the tool reaches
+    the flank only where its centre runs along it: with y0 = 3 mm the true tool leaves a foot
+    of material at the flank's foot, about (3 - b)²/(2·26) proud at a height where the face is
+    2b wide. Placed poses (8× denser) keep it; fans would cut it to the tangent polygon, so
+    the planner does not fan such steps (fan.rim_standoff); forced, they gouge the foot.
+    Centred (y0 = 0), fans are used and agree with the dense cut there."""
+    import vmach.stock.fan as fan_module
+
+    tool = library.lookup("GLOD D25")
+    z_tip = -20.0
+    z = z_tip - tool.radius + 0.05                     # 0.05 mm above the floor: b = 1.118
+    half = math.sqrt(tool.radius ** 2 - (tool.radius - 0.05) ** 2)
+    foot = 26.0 + max(y0 - half, 0.0) ** 2 / (2 * 26.0)
+
+    def cut(sub, **kw):
+        c = np.arange(0.0, 60.0 * sub + 1e-9, 1.0) * 1.713 / sub
+        stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.002, **kw)
+        stock.cut(tool, *turnmill(26.0, y0, z_tip, c))
+        return stock
+
+    def flank(stock):
+        phis = np.radians(np.linspace(20.0, 80.0, 25))
+        hits = [stock.solid.ray_cast((40 * np.cos(q), 40 * np.sin(q), z), (0.0, 0.0, z))[0].position
+                for q in phis]
+        return np.array([math.hypot(h[0], h[1]) for h in hits])
+
+    fans, dense = cut(1), cut(8, fans=False)
+    r_dense = flank(dense)
+    assert r_dense.min() >= foot - 1e-3                     # the dense cut keeps the foot
+    if y0 == 0.0:
+        assert fans.stats.fans > 0
+        assert np.abs(flank(fans) - r_dense).max() <= float(scallop_bound(26.0, 1.713)) + 1e-4
+        return
+    assert foot - 26.0 > 0.03
+    assert fans.stats.fans == 0
+    monkeypatch.setattr(fan_module, "rim_standoff", lambda tips, *a, **k: np.zeros(len(tips) - 1))
+    forced = cut(1)
+    assert forced.stats.fans > 0
+    assert (r_dense - flank(forced)).max() > 0.5 * (foot - 26.0)   # forced fans gouge the foot

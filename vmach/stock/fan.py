@@ -58,6 +58,10 @@ PARALLEL = 1e-6   # rotation axes agreeing to this (unit vectors), axes perpendi
 #: The bridge is measured at samples of the side's surface; between samples it can be a
 #: little larger (up to 6 % on the helix tests), so the measure is taken 10 % larger.
 SAMPLING_MARGIN = 1.1
+#: A rim band is covered by another pose's face only where that face reaches this far (mm)
+#: beyond the tip along the face line: the stretch of the chain a rim must cut lies within
+#: about 1 mm of its tip on the polygon shaft (the program's Y approximates the contact point).
+RIM_REACH = 1.5
 
 
 @dataclass(frozen=True)
@@ -117,7 +121,7 @@ def _exit(p: np.ndarray, d: np.ndarray, planes: np.ndarray, limit: float) -> np.
 
 def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Prism, *,
               max_angle: float = tol.fan_angle, slides: np.ndarray | None = None,
-              clear: np.ndarray | None = None) -> FanPlan:
+              clear: np.ndarray | None = None, rim: float = tol.fan_overcut) -> FanPlan:
     """Candidate fan runs of a path: maximal stretches of rotary steps — and, where
     ``slides`` (n-1,) bool allows, of steps that keep the axis and move the tool perpendicular
     to the rotation axis in between (a facing pass that indexes the workpiece and moves the
@@ -131,7 +135,9 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     tips, axes : (n, 3) float — poses (work frame, unit axes). rotary : (n-1,) bool — steps
     that turn the axis. tool : the prism. clear : (n,) bool — poses whose far end (the
     prism's back face) lies beyond the stock (:func:`back_clear`); only steps between two
-    such poses join a run. Steps not in a run are left to placed poses and translation hulls.
+    such poses join a run. rim : mm — the most the face chain may lie below the path of the
+    faces' rims (:func:`rim_standoff`). Steps not in a run are left to placed poses and
+    translation hulls.
     """
     tips = np.asarray(tips, dtype=float)
     a = np.asarray(axes, dtype=float)
@@ -164,6 +170,12 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     ok = turn & (np.abs(s_fwd) <= r) & (np.abs(s_back) <= r)
     ok &= np.abs(np.einsum("ij,ij->i", a[:-1], w)) <= PARALLEL
     ok &= np.abs(np.einsum("ij,ij->i", a[1:], w)) <= PARALLEL
+    band = _rim_band(s_fwd, s_back, turn, r)
+    near = np.minimum(rim_standoff(tips, a, angle), band) <= rim
+    if not near.all():
+        near |= _rims_covered(tips, a, w, turn, band, rim, r, ~near)
+    ok &= near
+    slide &= near
     move = tips[1:] - tips[:-1]
     runs: list[tuple[int, int]] = []
     i = 0
@@ -200,6 +212,96 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
         return NO_FANS
     ru = np.asarray(runs, dtype=int)
     return FanPlan(ru, w[ru[:, 0]])
+
+
+def rim_standoff(tips: np.ndarray, axes: np.ndarray, angle: np.ndarray, reach: int = 2) -> np.ndarray:
+    """(n-1,) mm: for each step, how far the path of the face's rim stands off the face chain.
+
+    A face is a disc: toward its rim along omega it narrows to the point tip ± R·omega, whose
+    projection along omega is the tip. Near the rim the tool reaches the chain of face lines
+    only where the tips' path runs along it; where a tip lies beyond its own stretch of the
+    chain (the tool centre ahead of or behind the contact: a Y that only approximates the
+    profile) or above it (the higher pose of a slide), the material between the chain and the
+    path is left by the true tool in a thin band at the rim — and would be taken by H minus M,
+    which cuts to the chain at every height. Measured as the largest ``n_j·x − h_j`` over the
+    face planes j of the poses within ``reach`` of each step, at both tips x and the chord's
+    midpoint, the latter raised by the arc's sagitta ``(c/2)·tan(δ/4)`` (a rotating tip runs on
+    an arc outside its chord)."""
+    n = len(tips)
+    h = np.einsum("ij,ij->i", tips, axes)
+    mid = 0.5 * (tips[:-1] + tips[1:])
+    sag = 0.5 * np.linalg.norm(tips[1:] - tips[:-1], axis=1) * np.tan(np.radians(angle) / 4.0)
+    out = np.zeros(n - 1)
+    for off in range(-reach, reach + 2):
+        j = np.clip(np.arange(n - 1) + off, 0, n - 1)
+        for x, extra in ((tips[:-1], 0.0), (tips[1:], 0.0), (mid, sag)):
+            out = np.maximum(out, np.einsum("ij,ij->i", x, axes[j]) - h[j] + extra)
+    return out
+
+
+def _rim_band(s_fwd: np.ndarray, s_back: np.ndarray, turn: np.ndarray, radius: float) -> np.ndarray:
+    """(n-1,) mm: the height of the band at a face's rim in which its disc is too narrow to
+    reach the ends of its stretch of the face chain. The stretch runs from crease to crease,
+    at most S = max(|s_fwd|, |s_back|) from the tip; the disc is at least that wide up to
+    ``R − √(R² − S²)`` from its rim. A step without a turn (a slide) takes the larger band of
+    the turns on either side of it. Whatever the rim leaves lies within this band, so it is
+    also a bound of the error the rim can make."""
+    big = np.where(turn, np.maximum(np.abs(s_fwd), np.abs(s_back)), np.nan)
+    band = np.where(np.isfinite(big), radius - np.sqrt(np.maximum(radius**2 - np.nan_to_num(big, nan=0.0,
+                    posinf=radius) ** 2, 0.0)), np.nan)
+    band[~turn] = np.nan
+    idx = np.arange(len(band))
+    have = ~np.isnan(band)
+    if not have.any():
+        return np.full(len(band), radius)
+    prev = np.maximum.accumulate(np.where(have, idx, -1))
+    nxt = np.minimum.accumulate(np.where(have, idx, len(band))[::-1])[::-1]
+    left = np.where(prev >= 0, band[np.maximum(prev, 0)], radius)
+    right = np.where(nxt < len(band), band[np.minimum(nxt, len(band) - 1)], radius)
+    return np.where(have, band, np.maximum(left, right))
+
+
+def _rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.ndarray, band: np.ndarray,
+                  rim: float, radius: float, which: np.ndarray) -> np.ndarray:
+    """(n-1,) bool: of the steps ``which``, those whose rim bands the path cuts anyway.
+
+    Whatever a fan takes in the band at a face's rim (:func:`rim_standoff`) is taken by the
+    true motion too if the path passes the same place again with the face at full width
+    there: another pose, its axis within 1° and its face plane within ``rim`` of the tip,
+    lying along omega beyond the band, and wide enough at the band's level
+    (``sqrt(2Rd − d²)`` for a pose d away) to reach ``RIM_REACH`` beyond the tip. A finishing
+    helix's next turn, 2 mm lower, does that for every turn but the last (whose lower rims
+    stay to be judged) and its previous turn for every turn but the first (upper rims). Both
+    rims of both poses of a step must be covered."""
+    n = len(tips)
+    out = np.zeros(n - 1, bool)
+    steps = np.nonzero(which)[0]
+    if len(steps) == 0:
+        return out
+    # each step's omega: its own, or a neighbouring turn's (a slide)
+    idx = np.arange(n - 1)
+    prev = np.maximum.accumulate(np.where(turn, idx, -1))
+    nxt = np.minimum.accumulate(np.where(turn, idx, n - 1)[::-1])[::-1]
+    src = np.where(turn, idx, np.where(prev >= 0, prev, np.minimum(nxt, n - 2)))
+    h = np.einsum("ij,ij->i", tips, axes)
+    cos1 = np.cos(np.radians(1.0))
+    for k in steps:
+        om = w[src[k]]
+        if not np.any(om):
+            continue
+        good = True
+        for q in (k, k + 1):
+            near = ((axes @ axes[q]) >= cos1) & (np.abs(axes @ tips[q] - h) <= rim)
+            d = (tips[q] - tips[near]) @ om                      # > 0: the other pose is lower
+            side = np.abs((tips[near] - tips[q]) @ np.cross(om, axes[q]))   # along the face line
+            # at the level of q's rim, a pose d lower (or higher) is sqrt(2Rd - d²) wide
+            width = np.sqrt(np.maximum(2 * radius * np.abs(d) - d * d, 0.0))
+            cover = (np.abs(d) >= band[k] + 1e-3) & (side <= width - RIM_REACH)
+            if not (np.any(cover & (d > 0)) and np.any(cover & (d < 0))):
+                good = False
+                break
+        out[k] = good
+    return out
 
 
 def back_clear(tips: np.ndarray, axes: np.ndarray, tool: Prism, solid: np.ndarray) -> np.ndarray:
