@@ -206,3 +206,20 @@ def test_chamfer_cone_walls_are_the_true_cone(library):
             for sign in (1.0, -1.0):
                 hit = stock.solid.ray_cast((x, 0.0, z), (x, sign * 25.0, z))
                 assert abs(abs(hit[0].position[1]) - (z - z_tip) * half) <= 1e-6
+
+
+def test_a_plunge_along_the_axis_reaches_the_true_depth(face40):
+    """The Ø40 face mill, radial, driven along its own axis (no side of travel to turn the
+    polygon to): the polygon is turned to the work Z instead, so the deepest point of the
+    floor its side leaves 20 mm below the axis is the true tool's, though the 72-gon deviates
+    by up to 0.0095 mm (between its vertices the floor follows the polygon)."""
+    ts = tool_solid(face40)
+    assert ts.deviation > 0.005
+    tips = np.array([[40.0, 0.0, -20.0], [22.0, 0.0, -20.0]])
+    axes = np.tile([1.0, 0.0, 0.0], (2, 1))
+    stock = Stock.from_spec("cylinder:d=60,l=60")
+    stock.cut(face40, tips, axes)
+    removed = stock.removed()
+    for x in (24.0, 27.0, 29.0):
+        z = [removed.ray_cast((x, y, -70.0), (x, y, 0.0))[0].position[2] for y in np.arange(-1.0, 1.0, 0.005)]
+        assert abs(min(z) - (-40.0)) <= 1e-4         # the polygon's slope near its vertex: 0.013

@@ -216,10 +216,20 @@ def across(axes: np.ndarray, travel: np.ndarray) -> np.ndarray:
 def spun(frames_: np.ndarray, side: np.ndarray, segments: int) -> np.ndarray:
     """Frames (n, 3, 4) turned about their own tool axis so that the polygon of a
     :func:`ring_points` solid reaches exactly the true radius toward ±side (n, 3) (unit,
-    perpendicular to the axis; rows of zeros leave their frame as it is) and, ``segments``
-    a multiple of 4, toward the two directions perpendicular to it (:func:`exact_phase`)."""
+    perpendicular to the axis; a row of zeros: the work Z across the axis, or X for a tool
+    along Z) and, ``segments`` a multiple of 4, toward the two directions perpendicular to it
+    (:func:`exact_phase`)."""
     rot = frames_[:, :, :3]
-    side = np.asarray(side, dtype=float).reshape(-1, 3)
+    side = np.array(side, dtype=float).reshape(-1, 3)
+    none = ~np.any(side, axis=1)
+    if none.any():
+        # no travel across the axis (a plunge, a move along the axis): the work frame's Z
+        # (X for a tool along Z) across the axis — the floors and shoulders of a turn-mill,
+        # the walls of a mill
+        ax = rot[none, :, 2]
+        ref = np.where(np.abs(ax[:, 2:3]) < 0.9, [[0.0, 0.0, 1.0]], [[1.0, 0.0, 0.0]])
+        ref = ref - np.einsum("ij,ij->i", ref, ax)[:, None] * ax
+        side[none] = ref / np.linalg.norm(ref, axis=1, keepdims=True)
     local = np.einsum("nji,nj->ni", rot, side)                 # side in each tool frame
     psi = np.arctan2(local[:, 1], local[:, 0])
     # ring_points puts vertex 0 at angle pi/n: turn it to psi + phi*
