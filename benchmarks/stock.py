@@ -18,8 +18,9 @@ Cases
   batches in queue order, tools to 0.002 mm) — measured in the same run, so on the same load.
 - ``program-naive``: one convex hull of the tool at the two ends of every move, one batch
   (it also overcuts rotary moves by about R sin(delta/2)).
-- ``helix N``: a synthetic finishing helix (face at X = h(C), C +1.713 deg per move, Z -0.01 per
-  move, the D25 cutter) of N moves on a Ø60 blank; ``helix-naive N`` one hull per move.
+- ``helix N``: a synthetic finishing helix (face at X = h(C), the tool centred on the contact
+  point Y = h'(C), C +1.713 deg per move, Z -0.01 per move, the D25 cutter) of N moves on a Ø60
+  blank; ``helix-naive N`` one hull per move.
 
 Figures on a loaded 2-core machine vary by tens of percent: ``--repeat`` runs each case N
 times and keeps the fastest (docs/stock.md says which).
@@ -68,9 +69,12 @@ def _helix(n: int):
     from vmach.checks.polygon import p3g
 
     c = np.arange(n + 1) * 1.713
-    h = p3g(50.0).h(np.radians(c - 30.0))
+    poly = p3g(50.0)
+    h = poly.h(np.radians(c - 30.0))
+    y = poly.dh(np.radians(c - 30.0))          # the tool centred on the contact point, Y = h'(C)
     a = np.radians(c)
-    tips = np.column_stack([h * np.cos(a), h * np.sin(a), 12.5 - 0.01 * np.arange(n + 1)])
+    tips = np.column_stack([h * np.cos(a) - y * np.sin(a), h * np.sin(a) + y * np.cos(a),
+                            12.5 - 0.01 * np.arange(n + 1)])
     axes = np.column_stack([np.cos(a), np.sin(a), np.zeros_like(a)])
     return tips, axes
 
