@@ -274,33 +274,38 @@ def _rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.nd
     stay to be judged) and its previous turn for every turn but the first (upper rims). Both
     rims of both poses of a step must be covered."""
     n = len(tips)
-    out = np.zeros(n - 1, bool)
     steps = np.nonzero(which)[0]
     if len(steps) == 0:
-        return out
-    # each step's omega: its own, or a neighbouring turn's (a slide)
+        return np.zeros(n - 1, bool)
+    # each step's omega: its own, or a neighbouring turn's (a slide); each pose takes the
+    # omega and the (larger) band of the steps it belongs to
     idx = np.arange(n - 1)
     prev = np.maximum.accumulate(np.where(turn, idx, -1))
     nxt = np.minimum.accumulate(np.where(turn, idx, n - 1)[::-1])[::-1]
     src = np.where(turn, idx, np.where(prev >= 0, prev, np.minimum(nxt, n - 2)))
+    pose_om = w[src[np.minimum(np.arange(n), n - 2)]]
+    pose_band = np.maximum(np.r_[band[:1], band], np.r_[band, band[-1:]])
     h = np.einsum("ij,ij->i", tips, axes)
+    qs = np.unique(np.r_[steps, steps + 1])
+    # other poses turned alike: axes within 1 degree (in blocks: problems × poses)
     cos1 = np.cos(np.radians(1.0))
-    for k in steps:
-        om = w[src[k]]
-        if not np.any(om):
-            continue
-        good = True
-        for q in (k, k + 1):
-            near = ((axes @ axes[q]) >= cos1) & (np.abs(axes @ tips[q] - h) <= rim)
-            d = (tips[q] - tips[near]) @ om                      # > 0: the other pose is lower
-            side = np.abs((tips[near] - tips[q]) @ np.cross(om, axes[q]))   # along the face line
-            # at the level of q's rim, a pose d lower (or higher) is sqrt(2Rd - d²) wide
-            width = np.sqrt(np.maximum(2 * radius * np.abs(d) - d * d, 0.0))
-            cover = (np.abs(d) >= band[k] + 1e-3) & (side <= width - RIM_REACH)
-            if not (np.any(cover & (d > 0)) and np.any(cover & (d < 0))):
-                good = False
-                break
-        out[k] = good
+    pairs = [np.nonzero(axes[qs[b : b + 256]] @ axes.T >= cos1) for b in range(0, len(qs), 256)]
+    q = np.concatenate([qs[b + r] for b, (r, _) in zip(range(0, len(qs), 256), pairs, strict=True)])
+    j = np.concatenate([c for _, c in pairs])
+    om = pose_om[q]
+    keep = np.abs(np.einsum("ij,ij->i", axes[j], tips[q]) - h[j]) <= rim   # face plane near the tip
+    d = np.einsum("ij,ij->i", tips[q] - tips[j], om)                   # > 0: the other pose is lower
+    side = np.abs(np.einsum("ij,ij->i", tips[j] - tips[q], np.cross(om, axes[q])))  # along the face line
+    # at the level of q's rim, a pose d lower (or higher) is sqrt(2Rd - d²) wide
+    width = np.sqrt(np.maximum(2 * radius * np.abs(d) - d * d, 0.0))
+    cover = keep & (np.abs(d) >= pose_band[q] + 1e-3) & (side <= width - RIM_REACH)
+    lower = np.zeros(n, bool)
+    upper = np.zeros(n, bool)
+    lower[q[cover & (d > 0)]] = True
+    upper[q[cover & (d < 0)]] = True
+    both = lower & upper & np.any(pose_om, axis=1)
+    out = np.zeros(n - 1, bool)
+    out[steps] = both[steps] & both[steps + 1]
     return out
 
 
