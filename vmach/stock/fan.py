@@ -246,19 +246,21 @@ def _rim_band(s_fwd: np.ndarray, s_back: np.ndarray, turn: np.ndarray, radius: f
     ``R − √(R² − S²)`` from its rim. A step without a turn (a slide) takes the larger band of
     the turns on either side of it. Whatever the rim leaves lies within this band, so it is
     also a bound of the error the rim can make."""
-    big = np.where(turn, np.maximum(np.abs(s_fwd), np.abs(s_back)), np.nan)
-    band = np.where(np.isfinite(big), radius - np.sqrt(np.maximum(radius**2 - np.nan_to_num(big, nan=0.0,
-                    posinf=radius) ** 2, 0.0)), np.nan)
-    band[~turn] = np.nan
-    idx = np.arange(len(band))
-    have = ~np.isnan(band)
-    if not have.any():
-        return np.full(len(band), radius)
-    prev = np.maximum.accumulate(np.where(have, idx, -1))
-    nxt = np.minimum.accumulate(np.where(have, idx, len(band))[::-1])[::-1]
+    big = np.minimum(np.maximum(np.abs(s_fwd), np.abs(s_back)), radius)   # no crease: the radius
+    band = radius - np.sqrt(radius**2 - big**2)
+    prev, nxt = _turns_around(turn)
     left = np.where(prev >= 0, band[np.maximum(prev, 0)], radius)
     right = np.where(nxt < len(band), band[np.minimum(nxt, len(band) - 1)], radius)
-    return np.where(have, band, np.maximum(left, right))
+    return np.where(turn, band, np.maximum(left, right))
+
+
+def _turns_around(turn: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For each step (turn (m,) bool), the last turning step at or before it (-1: none) and
+    the first at or after it (m: none)."""
+    idx = np.arange(len(turn))
+    prev = np.maximum.accumulate(np.where(turn, idx, -1))
+    nxt = np.minimum.accumulate(np.where(turn, idx, len(turn))[::-1])[::-1]
+    return prev, nxt
 
 
 def _rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.ndarray, band: np.ndarray,
@@ -279,10 +281,8 @@ def _rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.nd
         return np.zeros(n - 1, bool)
     # each step's omega: its own, or a neighbouring turn's (a slide); each pose takes the
     # omega and the (larger) band of the steps it belongs to
-    idx = np.arange(n - 1)
-    prev = np.maximum.accumulate(np.where(turn, idx, -1))
-    nxt = np.minimum.accumulate(np.where(turn, idx, n - 1)[::-1])[::-1]
-    src = np.where(turn, idx, np.where(prev >= 0, prev, np.minimum(nxt, n - 2)))
+    prev, nxt = _turns_around(turn)
+    src = np.where(turn, np.arange(n - 1), np.where(prev >= 0, prev, np.minimum(nxt, n - 2)))
     pose_om = w[src[np.minimum(np.arange(n), n - 2)]]
     pose_band = np.maximum(np.r_[band[:1], band], np.r_[band, band[-1:]])
     h = np.einsum("ij,ij->i", tips, axes)
