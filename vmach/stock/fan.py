@@ -37,7 +37,15 @@ the true sweep, and by no more than that.
   plane perpendicular to ω) the creases with its neighbours come in order, and lie inside
   that pose's face. A concave chain (the tool inside a bore, a rotation that reverses) fails
   this, because there the hull would bridge material no pose reaches;
-- the run turns the axis by at most ``tol.fan_angle``.
+- the run turns the axis by at most ``tol.fan_angle``;
+- the whole blank lies behind every pose's back face (:func:`back_clear`: behind, nothing
+  like M takes away the notches the hull fills between neighbouring back faces);
+- the face's rim does not leave a foot the hull would take (:func:`rim_standoff`), or the
+  path cuts that place again with the face at full width (another turn of a helix).
+
+A run may hold *slides* between its turns — steps that keep the axis and move the tool
+perpendicular to ω (a facing pass that indexes the workpiece, then moves); poses joined by
+slides are judged by their lowest face, and a slide's hull is its exact sweep.
 
 Lengths mm, angles degrees unless named otherwise.
 """
