@@ -310,8 +310,8 @@ class Stock:
             ends = [run_extremes(tips, r) for r in runs[which[part][kind[part] == 1]]]
             fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f], fr[a : b + 1])
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
-            jobs = [(k, fr[chunk_poses], _run_frames(tips, axes, ends, ts.segments),
-                     fan_jobs if k == 0 else [])
+            run_fr = _run_frames(tips, axes, ends, ts.segments)   # shared by every piece
+            jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [])
                     for k in range(len(ts.pieces))]
             self.stats.sweep_seconds += time.perf_counter() - t0
             yield ts, jobs
