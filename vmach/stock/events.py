@@ -8,11 +8,13 @@
   prisms 0.005 mm inside their cylinders: a body as wide as its cutter only touches).
 
 Checking every move against the evolving stock would cost a boolean per move, so the checks are
-screened in two conservative steps: bounding boxes (:func:`cylinder_boxes`) pick the moves whose
-rapid cutter or shank/holder could reach material at all; then, per chunk of moves, the union of
-their rapid cutters and parts is intersected once with the stock as it is *before* the chunk.
-Material only ever decreases, so an empty intersection clears every move of the chunk; only a
-chunk that is not cleared is cut move by move and measured exactly.
+screened in conservative steps: bounding boxes (:func:`cylinder_boxes`) pick the moves whose
+rapid cutter or shank/holder could reach material at all; their solids are met with the blank;
+then, per chunk of moves, the parts are met with the stock as it is *before* the chunk (one
+small boolean per solid: their union would cost more, they overlap). Material only ever
+decreases, so a part that misses that stock misses it during the chunk; only a chunk with a
+rapid or a part left is cut move by move and measured exactly
+(:func:`vmach.stock.simulate.simulate`).
 """
 
 from __future__ import annotations
@@ -72,22 +74,24 @@ def _ring(part: Part, chord: float) -> np.ndarray:
 
 def part_solids(part: Part, tips: np.ndarray, axes: np.ndarray, chord: float = 0.005) -> list:
     """Solids the part occupies along a path of poses: the hull of consecutive poses when the
-    axis does not turn (exact sweep), else the part placed at every pose. The part is an
-    inscribed prism (``chord`` mm inside the true cylinder), so only overlaps deeper than
-    ``chord`` can be reported."""
+    axis does not turn (exact sweep), else the part placed at each pose of a turning step
+    (each pose once: the prism made once and moved there). The part is an inscribed prism
+    (``chord`` mm inside the true cylinder), so only overlaps deeper than ``chord`` can be
+    reported."""
     pts = _ring(part, chord)
     fr = frames(tips, axes)
     placed = place(pts, fr)
-    a = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-    out = []
     if len(tips) == 1:
         return [engine.hull(placed[0])]
-    for i in range(len(tips) - 1):
-        if np.allclose(a[i], a[i + 1], atol=1e-12):
-            out.append(engine.hull(np.concatenate([placed[i], placed[i + 1]])))
-        else:
-            out.append(engine.hull(placed[i]))
-            out.append(engine.hull(placed[i + 1]))
+    a = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+    same = np.all(np.isclose(a[:-1], a[1:], rtol=0.0, atol=1e-12), axis=1)
+    out = [engine.hull(np.concatenate([placed[i], placed[i + 1]])) for i in np.nonzero(same)[0]]
+    turning = np.zeros(len(tips), bool)
+    turning[:-1] |= ~same
+    turning[1:] |= ~same
+    if turning.any():
+        prism = engine.hull(pts)
+        out += [engine.transform(prism, fr[k]) for k in np.nonzero(turning)[0]]
     return out
 
 

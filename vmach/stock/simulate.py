@@ -147,10 +147,15 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
 
     Per chunk of ``CHUNK`` rows: boxes pick the rows whose rapid cutter or parts could reach
     material, and their solids are met with the blank one by one (convex, a few hundred
-    triangles each). If none reaches into the blank the chunk is cut as a whole. Otherwise the
-    stock inside the box around those solids is taken (:meth:`Stock.local`: exact there, and
-    much smaller than the stock), the chunk's rows are cut from it one by one, and each watched
-    row is measured on it exactly; the chunk is then cut from the stock as one path."""
+    triangles each). The parts that do are then measured, solid by solid, on the stock inside
+    the box around them (:meth:`Stock.local`: exact there, and much smaller than the stock) as
+    it is before the chunk — or, when only parts are left, before the chunks held back (below),
+    which holds more material; the stock only shrinks, so a part that reaches nothing there
+    reaches nothing during the chunk. A chunk with nothing left to measure is held back and
+    cut later together with its neighbours, as one path (as without checks: fans and
+    translation hulls run on across chunks). Otherwise the held chunks are cut, the chunk's
+    rows are cut one by one from the local stock, and each watched row is measured on it
+    exactly; the chunk is then cut from the stock as one path."""
     tips, ax = pose.tip, pose.axis
     first = np.r_[0, np.cumsum(k)[:-1]]
     span = [(first[j], first[j] + k[j] + 1) for j in range(b - a)]
@@ -161,6 +166,16 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
     for p in parts:
         part_hit |= overlaps(cylinder_boxes(tips, ax, p.z0, p.z1, p.radius), blank)
     rapid = table.kind[a:b] == TRAVERSE
+    held = [None, None]             # poses [first, last + 1) of chunks not yet cut: one path
+
+    def hold(s: int, e: int) -> None:
+        held[:] = [s if held[0] is None else held[0], e]
+
+    def release() -> None:
+        if held[0] is not None:
+            stock.cut(tool, tips[held[0] : held[1]], ax[held[0] : held[1]])
+            held[:] = [None, None]
+
     for c0 in range(0, b - a, CHUNK):
         rows = range(c0, min(c0 + CHUNK, b - a))
         here = stock.bounds
@@ -185,21 +200,32 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
             if j[0] == "rapid" and not _meets(stock.initial, rc[0]):
                 near[j[1]] = rc
         probes = {key: v for key, v in probes.items() if _meets(stock.initial, v[0])}
+        s, e = span[rows[0]][0], span[rows[-1]][1]
+        if probes and not near and held[0] is not None and all(key[0] != "rapid" for key in probes):
+            # parts only: measured first on the stock without the chunks held back (more
+            # material than now), so that most chunks need not cut those first
+            probes = _reaching(stock.local(*_around(probes, here, clearance)), probes)
+        if not probes and not near:
+            hold(s, e)              # cut later with its neighbours, as one path
+            continue
+        release()
         if near:
             now = stock.solid
             near = {j: rc for j, rc in near.items()
                     if engine.min_gap(now, engine.union(rc[0]), clearance) < clearance}
         for j, rc in near.items():
             probes.setdefault(("rapid", j), rc)
-        s, e = span[rows[0]][0], span[rows[-1]][1]
         if not probes:
-            stock.cut(tool, tips[s:e], ax[s:e])
+            hold(s, e)
             continue
-        boxes = np.array([bx for _, bxs in probes.values() for bx in bxs])
-        boxes = boxes + np.array([[-clearance] * 3, [clearance] * 3])
-        lo = np.maximum(boxes[:, 0].min(axis=0), here[0]) - tol.trim_margin
-        hi = np.minimum(boxes[:, 1].max(axis=0), here[1]) + tol.trim_margin
-        before = stock.local(lo, hi) if np.all(lo <= hi) else engine.empty()
+        before = stock.local(*_around(probes, here, clearance))
+        # a part that does not reach into the stock as it is before the chunk cannot reach
+        # into it during the chunk (the stock only shrinks): measured here once, those parts
+        # need no move-by-move cut
+        probes = _reaching(before, probes)
+        if not probes:
+            hold(s, e)
+            continue
         local = before
         done: list = []                  # the chunk's cutters so far (for close-up snapshots)
         last = max(j for _, j in probes)
@@ -212,6 +238,28 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
                              [(p, probes[(p.name, j)][0]) for p in parts if (p.name, j) in probes], res,
                              clearance)
         stock.cut(tool, tips[s:e], ax[s:e])
+    release()
+
+
+def _around(probes: dict, here: np.ndarray, clearance: float) -> tuple[np.ndarray, np.ndarray]:
+    """The box (lo, hi) around the probes' solids, grown by the clearance, within ``here``
+    (the stock's bounds) grown by the trim margin."""
+    boxes = np.array([bx for _, bxs in probes.values() for bx in bxs])
+    lo = np.maximum(boxes[:, 0].min(axis=0) - clearance, here[0]) - tol.trim_margin
+    hi = np.minimum(boxes[:, 1].max(axis=0) + clearance, here[1]) + tol.trim_margin
+    return lo, hi
+
+
+def _reaching(before, probes: dict) -> dict:
+    """``probes`` without the parts' entries (``(part name, row)``: (solids, boxes)) that
+    overlap ``before`` by no more than ``tol.removal_volume`` — first all of them together,
+    then, if together they do, each on its own. Rapids' entries are kept."""
+    parts = [key for key in probes if key[0] != "rapid"]
+    if not parts:
+        return probes
+    drop = {key for key in parts
+            if sum(overlap_volume(before, [q])[0] for q in probes[key][0]) <= tol.removal_volume}
+    return {key: v for key, v in probes.items() if key not in drop}
 
 
 def _meets(solid, probe: list) -> bool:

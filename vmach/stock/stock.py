@@ -586,9 +586,11 @@ class Stock:
 
     def local(self, lo, hi) -> engine.Solid:
         """The stock now (pending cutters subtracted) inside the box [lo, hi] — exact there,
-        and cheaper to measure against than the whole stock."""
+        and cheaper to measure against than the whole stock (empty if the box is)."""
         lo = np.asarray(lo, dtype=float)
         hi = np.asarray(hi, dtype=float)
+        if np.any(lo > hi):
+            return engine.empty()
         if self._solid is not None:
             return engine.intersect(self._solid, engine.box(lo, hi))
         self._flush_cells()

@@ -1,0 +1,135 @@
+"""The verify checks of the stock stage (``simulate(..., checks=True)``) against the plain cut.
+
+A D40 face mill (5.5 mm of inserts, a Ø36 shank behind them) turns a Ø30 shaft about its
+axis twice: with its face at X = 12, then at X = 9. In the second turn the shank (X >= 14.5)
+lies inside the blank's radius, but the first turn has cleared everything beyond X = 12 there:
+the shank meets the blank and never the stock. Without the first turn, the shank meets the
+shaft's rim (14.5 < r < 15) until the cutter's own edge, turning ahead of it, has cleared it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from catalog import POLYGON_TOOLS
+
+from interpreters import sinumerik
+from vmach.machine import load_model
+from vmach.motion.table import build
+from vmach.stock import Stock, engine
+from vmach.stock import simulate as simulate_module
+from vmach.stock.events import Part, part_solids
+from vmach.stock.simulate import simulate
+from vmach.tooling import load_tools
+
+HEAD = """N10 G0 G53 X325 Y0 D0
+N20 T="GLOD D40" D1
+N30 G54 G19 G90
+N40 DIAMOF
+N50 SETMS(2)
+N60 G94 S2=640 M2=3
+N70 C_AXIS_ON
+N80 C1=0
+N90 G0 X40 Y0 Z25
+"""
+FIRST_TURN = """N100 G0 X12
+N110 G1 Z-10 F400
+N120 R1=0
+N130 WHILE R1<360
+N140 R1=R1+3
+N150 G1 C1=R1
+N160 ENDWHILE
+N170 G1 X9
+"""
+PLUNGE = """N170 G0 X9
+N175 G1 Z-10 F400
+"""
+SECOND_TURN = """N180 R1=0
+N190 WHILE R1<360
+N200 R1=R1+3
+N210 G1 C1=R1
+N220 ENDWHILE
+N230 G1 X40
+N240 G0 Z25
+N250 M2=5
+N260 C_AXIS_OFF
+N270 M30
+"""
+
+
+def _run(tmp_path, text: str, checks: bool, monkeypatch=None):
+    path = tmp_path / "TURN.MPF"
+    path.write_text(text)
+    model = load_model("turnmill")
+    table = build(sinumerik.run(str(path), model.control).commands, model.control)
+    stock = Stock.from_spec("cylinder:d=30,l=60")
+    moved: list[int] = []
+    if monkeypatch is not None:
+        one = simulate_module._cut_one
+
+        def spy(stock_, local, done, tool, table_, row, *a, **k):
+            moved.append(row)
+            return one(stock_, local, done, tool, table_, row, *a, **k)
+
+        monkeypatch.setattr(simulate_module, "_cut_one", spy)
+    sim = simulate(table, model, load_tools(POLYGON_TOOLS), stock, checks=checks)
+    return sim, stock, moved, table
+
+
+def _line(text: str, prefix: str) -> int:
+    return next(i + 1 for i, ln in enumerate(text.splitlines()) if ln.startswith(prefix))
+
+
+def test_parts_that_meet_only_cleared_material_cost_no_move_by_move_cut(tmp_path, monkeypatch):
+    """Every row of the second turn has its shank inside the blank's box and the blank, so
+    it is a candidate; measured once on the stock before its chunk it reaches nothing, so no
+    row is cut and measured on its own, and the chunks are cut together as one path — the
+    part is the plain cut's."""
+    text = HEAD + FIRST_TURN + SECOND_TURN
+    plain, plain_stock, _, table = _run(tmp_path, text, checks=False)
+    checked, stock, moved, _ = _run(tmp_path, text, checks=True, monkeypatch=monkeypatch)
+    assert len(table) > 3 * simulate_module.CHUNK          # several chunks
+    assert checked.findings == []
+    assert moved == []
+    assert stock.volume == pytest.approx(plain_stock.volume, rel=1e-8)
+    # held chunks are cut as one path: at most one more cut than the plain run's single path
+    assert stock.stats.cutters <= plain_stock.stats.cutters + 2
+
+
+def test_a_shank_in_uncut_material_is_found_until_the_cutter_clears_it(tmp_path):
+    """Plunging at X = 9 puts the shank into the shaft's rim; turning, the cutter's side
+    clears the rim ahead of the shank, so the overlap shrinks row by row to nothing."""
+    text = HEAD + PLUNGE + SECOND_TURN
+    sim, _, _, _ = _run(tmp_path, text, checks=True)
+    hits = [f for f in sim.findings if f.kind == "holder_collision"]
+    assert {f.data["part"] for f in hits} == {"shank"}
+    assert hits[0].line == _line(text, "N175")
+    turn = [f for f in hits if f.line == _line(text, "N210")]
+    assert len(turn) >= 3
+    vols = np.array([f.data["volume_mm3"] for f in turn])
+    assert np.all(np.diff(vols) < 0)                     # the rim is cut away ahead of it
+    assert len(turn) < 40                                # ... and is gone well before the turn ends
+
+
+def test_part_solids_of_a_turning_path_are_the_placed_prisms():
+    """A turning step places the part at its poses (each once); a straight step is the hull
+    of its two ends — the same solids as hulls of the placed points."""
+    part = Part("shank", 5.5, 40.0, 18.0)
+    c = np.radians([0.0, 2.0, 4.0, 4.0])
+    axes = np.column_stack([np.cos(c), np.sin(c), np.zeros(4)])
+    tips = 9.0 * axes + np.array([[0, 0, -10.0], [0, 0, -10.0], [0, 0, -10.0], [0, 0, -12.0]])
+    solids = part_solids(part, tips, axes)
+    assert len(solids) == 1 + 3                          # the straight step, then three poses
+    straight, *placed = solids
+    ring = part_solids(part, tips[:1], axes[:1])[0]
+    for k, s in enumerate(placed):
+        one = part_solids(part, tips[k : k + 1], axes[k : k + 1])[0]
+        assert engine.volume(s) == pytest.approx(engine.volume(ring), rel=1e-9)
+        assert engine.volume(engine.subtract(s, [one])) < 1e-6
+        assert engine.volume(engine.subtract(one, [s])) < 1e-6
+    # the straight step sweeps the prism 2 mm along Z: its volume grows by 2 mm times the
+    # prism's shadow on the XY plane, a rectangle (length z1 - z0, the polygon's width across)
+    u = np.array([-np.sin(c[3]), np.cos(c[3]), 0.0])
+    v, _ = engine.to_mesh(placed[-1], double=True)
+    shadow = (part.z1 - part.z0) * np.ptp(v @ u)
+    assert engine.volume(straight) == pytest.approx(engine.volume(ring) + 2.0 * shadow, rel=1e-9)
