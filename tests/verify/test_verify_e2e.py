@@ -59,6 +59,12 @@ def test_g0_through_the_stock_is_a_rapid_into_stock(tmp_path):
     depth = np.sqrt(15.0**2 - y**2) - 12.0
     length = 7.5 + np.sqrt(12.5**2 - y**2)
     assert f.data["volume_mm3"] == pytest.approx(np.trapezoid(depth * length, y), rel=0.002)
+    # ... and where: the chip's centre of mass, by the same integrals (C = 0: the work frame's
+    # X is the machine's; the chip is symmetric about y = 0)
+    vol = np.trapezoid(depth * length, y)
+    x_bar = np.trapezoid((np.sqrt(15.0**2 - y**2) ** 2 - 12.0**2) / 2 * length, y) / vol
+    z_bar = np.trapezoid(depth * -(length**2) / 2, y) / vol
+    assert f.data["at_mm"] == pytest.approx([x_bar, 0.0, z_bar], abs=0.005)
 
 
 def test_tool_too_short_so_the_holder_touches_the_shoulder(tmp_path):

@@ -19,9 +19,9 @@ from vmach.errors import VmachError
 Solid = m3d.Manifold
 
 __all__ = [
-    "Solid", "StockError", "box", "bounds", "check", "cylinder", "empty", "from_mesh", "hull",
-    "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles", "slice_polygons", "subtract",
-    "to_mesh", "transform", "union", "volume",
+    "Solid", "StockError", "box", "bounds", "centroid", "check", "cylinder", "empty", "from_mesh", "hull",
+    "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles", "slice_polygons", "split",
+    "subtract", "to_mesh", "transform", "union", "volume",
 ]
 
 
@@ -128,6 +128,15 @@ def intersect(a: Solid, b: Solid) -> Solid:
     return a ^ b
 
 
+def split(solid: Solid, cutters: Sequence[Solid]) -> tuple[Solid, Solid]:
+    """(``solid`` ∩ union of ``cutters``, ``solid`` minus it), in one boolean (lazy)."""
+    cut = union(cutters)
+    if cut.is_empty():
+        return empty(), solid
+    inside, outside = solid.split(cut)
+    return inside, outside
+
+
 def min_gap(a: Solid, b: Solid, search: float) -> float:
     """Smallest distance between two solids, mm, looked for up to ``search`` mm (``search`` when
     they are farther apart; 0 when they touch or overlap)."""
@@ -150,6 +159,21 @@ def is_empty(solid: Solid) -> bool:
 def volume(solid: Solid) -> float:
     """Volume, mm³."""
     return float(solid.volume())
+
+
+def centroid(solid: Solid) -> np.ndarray | None:
+    """(3,) float, mm: the centre of mass of the solid's volume (None when empty or flat).
+    Unlike its box's centre, slivers of no volume do not move it."""
+    if solid.is_empty():
+        return None
+    v, f = to_mesh(solid, double=True)
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    o = v.mean(axis=0)                      # tetrahedra from a point near the solid: less rounding
+    vol = np.einsum("ij,ij->i", a - o, np.cross(b - o, c - o)) / 6.0
+    total = vol.sum()
+    if total <= 0.0:
+        return None
+    return o + (vol[:, None] * (a + b + c - 3.0 * o)).sum(axis=0) / (4.0 * total)
 
 
 def num_triangles(solid: Solid) -> int:

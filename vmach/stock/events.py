@@ -96,11 +96,11 @@ def part_solids(part: Part, tips: np.ndarray, axes: np.ndarray, chord: float = 0
 
 
 def overlap_volume(solid, parts: list) -> tuple[float, np.ndarray | None]:
-    """Volume (mm³) of ``solid`` inside the union of ``parts`` and the centre of that overlap."""
+    """Volume (mm³) of ``solid`` inside the union of ``parts`` and the centre (of mass) of that
+    overlap."""
     if not parts:
         return 0.0, None
     inter = engine.intersect(solid, engine.union(parts))
     if engine.is_empty(inter):
         return 0.0, None
-    b = engine.bounds(inter)
-    return engine.volume(inter), (b[0] + b[1]) / 2
+    return engine.volume(inter), engine.centroid(inter)

@@ -274,7 +274,9 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
     local stock after the move."""
     cutters, _ = rapid if rapid is not None else stock.cutters(tool, tips, ax)
     if rapid is not None:
-        removed, centre = overlap_volume(local, cutters)
+        chip, after = engine.split(local, cutters)      # what the rapid removes, and the rest
+        removed = engine.volume(chip)
+        centre = engine.centroid(chip) if removed > tol.removal_volume else None
         if removed > tol.removal_volume:
             c = np.round(centre, 3).tolist()
             res.findings.append(Finding(
@@ -291,7 +293,9 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
                     table.source(row), row, {"distance_mm": round(gap, 4), "clearance_mm": clearance,
                                              "obstacle": "stock"}))
     done += cutters
-    if cutters:
+    if rapid is not None:
+        local = after
+    elif cutters:
         local = engine.subtract(local, cutters)   # lazy: evaluated by the next measurement
     if rapid is not None and res.findings and res.findings[-1].move_index == row:
         _snapshot(stock, done, row, res)
