@@ -223,3 +223,13 @@ def test_a_plunge_along_the_axis_reaches_the_true_depth(face40):
     for x in (24.0, 27.0, 29.0):
         z = [removed.ray_cast((x, y, -70.0), (x, y, 0.0))[0].position[2] for y in np.arange(-1.0, 1.0, 0.005)]
         assert abs(min(z) - (-40.0)) <= 1e-4         # the polygon's slope near its vertex: 0.013
+
+
+def test_centroid_is_the_centre_of_mass():
+    """Two boxes, 1 and 8 mm³: the centre of mass lies 8/9 of the way to the bigger one's
+    centre, wherever the boxes are; an empty solid has none."""
+    a = engine.box((0, 0, 0), (1, 1, 1))
+    b = engine.box((10, -3, 5), (12, -1, 7))
+    c = engine.centroid(engine.union([a, b]))
+    assert c == pytest.approx((np.array([0.5, 0.5, 0.5]) + 8 * np.array([11.0, -2.0, 6.0])) / 9, abs=1e-12)
+    assert engine.centroid(engine.empty()) is None
