@@ -226,7 +226,7 @@ def collision_pictures(report, out_dir: Path, most: int = 8) -> dict[str, str]:
             for c in tool_cylinders(tool):
                 v, fc = cylinder_mesh(c.radius, c.z0, c.z1)
                 meshes.append((transformed(v, t2w), fc, colours[c.part], 1.0))
-        snap = snaps.get(row)
+        snap = snaps[row].mesh() if row in snaps else None
         if snap is None and report.part is not None:
             snap = report.part.mesh("part")
         if snap is not None:

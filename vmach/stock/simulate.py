@@ -46,9 +46,25 @@ class SimResult:
     bound_mm: float = 0.0
     max_step_deg: float = 0.0
     findings: list[Finding] = field(default_factory=list)
-    #: row -> (vertices (n, 3), faces (m, 3)) of the stock right after a move that made a
-    #: finding (first per block), for the close-up pictures
+    #: row -> :class:`Snapshot` of the stock right after a move that made a finding (first
+    #: per block), for the close-up pictures
     snapshots: dict = field(default_factory=dict)
+
+
+class Snapshot:
+    """The stock at one moment, kept as manifold3d's lazy expression (the stock then minus
+    the cutters since): evaluated only if a picture asks for its mesh."""
+
+    def __init__(self, solid: engine.Solid):
+        self._solid = solid
+        self._mesh: tuple[np.ndarray, np.ndarray] | None = None
+
+    def mesh(self) -> tuple[np.ndarray, np.ndarray]:
+        """Vertices (n, 3) float, mm and faces (m, 3) int."""
+        if self._mesh is None:
+            self._mesh = engine.to_mesh(self._solid)
+            self._solid = None
+        return self._mesh
 
 
 def sample_rows(start: np.ndarray, end: np.ndarray, rotary: np.ndarray, fk,
@@ -319,4 +335,4 @@ def _snapshot(stock: Stock, done: list, row: int, res: SimResult) -> None:
     lines = {f.line for f in res.findings if f.move_index in res.snapshots}
     here = next((f.line for f in reversed(res.findings) if f.move_index == row), None)
     if len(res.snapshots) < SNAPSHOTS and row not in res.snapshots and here not in lines:
-        res.snapshots[row] = engine.to_mesh(engine.subtract(stock.solid, done))
+        res.snapshots[row] = Snapshot(engine.subtract(stock.solid, list(done)))
