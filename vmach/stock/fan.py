@@ -453,40 +453,30 @@ def _basis(omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return u, np.cross(omega, u)
 
 
-def _clip_halfplane(poly: np.ndarray, n: np.ndarray, c: float) -> np.ndarray:
-    """Convex polygon (q, 2) ∩ {p : n·p <= c} (Sutherland–Hodgman, one edge)."""
-    d = poly @ n - c
-    inside = d <= 0
-    if inside.all():
-        return poly
-    if not inside.any():
-        return poly[:0]
-    out = []
-    q = len(poly)
-    for k in range(q):
-        j = (k + 1) % q
-        if inside[k]:
-            out.append(poly[k])
-        if inside[k] != inside[j]:
-            out.append(poly[k] + (poly[j] - poly[k]) * (d[k] / (d[k] - d[j])))
-    return np.asarray(out)
-
-
 def material_points(tips: np.ndarray, axes: np.ndarray, omega: np.ndarray, around: np.ndarray,
                     margin: float = 1.0, eps: float = EPS) -> np.ndarray | None:
     """Vertices (k, 3) of M — the material below every face plane of a run, moved out by
     ``eps`` — within a box ``margin`` around the points ``around`` (m, 3) (the hull's), so
     that H \\ M is the fan cutter. All face planes contain omega, so M is a prism along it:
-    the face lines clip a rectangle in the plane perpendicular to omega. None if empty."""
+    the face lines clip a rectangle in the plane perpendicular to omega, whose corners are
+    the crossings of two of its lines that lie on the right side of all the others (taken all
+    at once; the caller hulls them, so their order does not matter). None if empty."""
     u, v = _basis(omega)
     pu, pv, pw = around @ u, around @ v, around @ omega
     lo, hi = np.array([pu.min(), pv.min()]) - margin, np.array([pu.max(), pv.max()]) + margin
-    poly = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
-    for nk, ck in zip(np.column_stack([axes @ u, axes @ v]),
-                      np.einsum("ij,ij->i", tips, axes) + eps, strict=True):
-        poly = _clip_halfplane(poly, nk, ck)
-        if len(poly) < 3:
-            return None
-    base = poly[:, :1] * u + poly[:, 1:] * v
+    n = np.vstack([np.column_stack([axes @ u, axes @ v]), [[-1.0, 0.0], [1.0, 0.0], [0.0, -1.0], [0.0, 1.0]]])
+    c = np.r_[np.einsum("ij,ij->i", tips, axes) + eps, -lo[0], hi[0], -lo[1], hi[1]]
+    i, j = np.triu_indices(len(n), 1)
+    det = n[i, 0] * n[j, 1] - n[i, 1] * n[j, 0]
+    ok = np.abs(det) > 1e-12
+    i, j, det = i[ok], j[ok], det[ok]
+    x = (c[i] * n[j, 1] - c[j] * n[i, 1]) / det
+    y = (n[i, 0] * c[j] - n[j, 0] * c[i]) / det
+    p = np.column_stack([x, y])
+    slack = 1e-9 * max(1.0, float(np.abs(c).max()))
+    p = p[np.all(p @ n.T <= c + slack, axis=1)]
+    if len(p) < 3 or np.ptp(p[:, 0]) * np.ptp(p[:, 1]) <= 0.0:
+        return None
+    base = p[:, :1] * u + p[:, 1:] * v
     w0, w1 = pw.min() - margin, pw.max() + margin
     return np.vstack([base + w0 * omega, base + w1 * omega])
