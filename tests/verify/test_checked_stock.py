@@ -133,3 +133,22 @@ def test_part_solids_of_a_turning_path_are_the_placed_prisms():
     v, _ = engine.to_mesh(placed[-1], double=True)
     shadow = (part.z1 - part.z0) * np.ptp(v @ u)
     assert engine.volume(straight) == pytest.approx(engine.volume(ring) + 2.0 * shadow, rel=1e-9)
+
+
+def test_a_rapid_through_cleared_material_costs_no_move_by_move_cut(tmp_path, monkeypatch):
+    """After the first turn, the tool backs off 1.5 mm (X13.5), rises 2 mm off the floor it
+    cut, and moves up with G0: its cutter passes through the blank's radius where the turn
+    has cleared everything, at least 1.5 mm from the stock (the clearance is 1 mm). Judged
+    on the stock before its chunk, the rapid can neither remove material nor pass close to
+    it, so no row is cut on its own — and there is no finding."""
+    text = HEAD + FIRST_TURN.replace("N170 G1 X9\n", "") + "N300 G1 X13.5\nN305 G1 Z-8\nN310 G0 Z-5\n" \
+        + SECOND_TURN[SECOND_TURN.index("N230"):]
+    sim, _, moved, _ = _run(tmp_path, text, checks=True, monkeypatch=monkeypatch)
+    assert sim.findings == []
+    assert moved == []
+    # the same rapid 1.5 mm lower, its cutter's edge in the floor: found, cut row by row
+    low = text.replace("N305 G1 Z-8\nN310 G0 Z-5", "N305 G1 Z-8\nN310 G0 Z-11.5")
+    sim, _, moved, _ = _run(tmp_path, low, checks=True, monkeypatch=monkeypatch)
+    errors = [(f.kind, f.line) for f in sim.findings if f.severity == "error"]
+    assert errors == [("rapid_into_stock", _line(low, "N310"))]
+    assert moved

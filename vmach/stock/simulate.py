@@ -154,6 +154,7 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
 
 
 CHUNK = 64  # moves screened together against the stock before them
+RAPIDS_JUDGED = 8  # a chunk's rapids are judged on the stock before it when there are no more
 
 
 def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose, res: SimResult,
@@ -217,10 +218,10 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
                 near[j[1]] = rc
         probes = {key: v for key, v in probes.items() if _meets(stock.initial, v[0])}
         s, e = span[rows[0]][0], span[rows[-1]][1]
-        if probes and not near and held[0] is not None and all(key[0] != "rapid" for key in probes):
-            # parts only: measured first on the stock without the chunks held back (more
-            # material than now), so that most chunks need not cut those first
-            probes = _reaching(stock.local(*_around(probes, here, clearance)), probes)
+        if probes and not near and held[0] is not None:
+            # measured first on the stock without the chunks held back (more material than
+            # now), so that most chunks need not cut those first
+            probes = _reaching(stock.local(*_around(probes, here, clearance)), probes, clearance)
         if not probes and not near:
             hold(s, e)              # cut later with its neighbours, as one path
             continue
@@ -238,7 +239,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
         # a part that does not reach into the stock as it is before the chunk cannot reach
         # into it during the chunk (the stock only shrinks): measured here once, those parts
         # need no move-by-move cut
-        probes = _reaching(before, probes)
+        probes = _reaching(before, probes, clearance)
         if not probes:
             hold(s, e)
             continue
@@ -266,15 +267,28 @@ def _around(probes: dict, here: np.ndarray, clearance: float) -> tuple[np.ndarra
     return lo, hi
 
 
-def _reaching(before, probes: dict) -> dict:
-    """``probes`` without the parts' entries (``(part name, row)``: (solids, boxes)) that
-    overlap ``before`` by no more than ``tol.removal_volume`` — first all of them together,
-    then, if together they do, each on its own. Rapids' entries are kept."""
-    parts = [key for key in probes if key[0] != "rapid"]
-    if not parts:
-        return probes
-    drop = {key for key in parts
-            if sum(overlap_volume(before, [q])[0] for q in probes[key][0]) <= tol.removal_volume}
+def _reaching(before, probes: dict, clearance: float) -> dict:
+    """``probes`` without those that cannot make a finding during the chunk, judged on
+    ``before`` (the stock before the chunk, or a superset of it, inside a box that holds the
+    probes grown by the clearance): a part (``(part name, row)``: (solids, boxes)) that
+    overlaps it by no more than ``tol.removal_volume``, measured solid by solid; a rapid
+    (``("rapid", row)``) that removes no more than that from it and passes at least
+    ``clearance`` from it. Rapids are judged only when a chunk has few (RAPIDS_JUDGED): a
+    chunk full of rapids that cut (a facing pass that indexes with G0) is measured move by
+    move anyway, and judging them first would double the work."""
+    drop = set()
+    rapids = [key for key in probes if key[0] == "rapid"]
+    if len(rapids) <= RAPIDS_JUDGED:
+        for key in rapids:
+            cutters = probes[key][0]
+            if overlap_volume(before, cutters)[0] > tol.removal_volume:
+                continue
+            gap = engine.min_gap(before, engine.union(cutters), clearance) if clearance > 0 else clearance
+            if cutters and gap < clearance:
+                continue
+            drop.add(key)
+    drop |= {key for key in probes if key[0] != "rapid"
+             and sum(overlap_volume(before, [q])[0] for q in probes[key][0]) <= tol.removal_volume}
     return {key: v for key, v in probes.items() if key not in drop}
 
 
