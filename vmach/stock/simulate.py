@@ -282,10 +282,9 @@ def _reaching(before, probes: dict, clearance: float) -> dict:
         for key in rapids:
             cutters = probes[key][0]
             if overlap_volume(before, cutters)[0] > tol.removal_volume:
-                continue
-            gap = engine.min_gap(before, engine.union(cutters), clearance) if clearance > 0 else clearance
-            if cutters and gap < clearance:
-                continue
+                continue                                   # it cuts
+            if clearance > 0 and engine.min_gap(before, engine.union(cutters), clearance) < clearance:
+                continue                                   # it may pass close
             drop.add(key)
     drop |= {key for key in probes if key[0] != "rapid"
              and sum(overlap_volume(before, [q])[0] for q in probes[key][0]) <= tol.removal_volume}
