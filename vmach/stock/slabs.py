@@ -6,8 +6,13 @@ cutter may be trimmed to any box that holds the stock *within the cutter's own Z
 the whole stock is loose where the stock has been cut down: on the polygon shaft the end that
 the finishing cutter works on is 53.6 mm across while the blank behind the shoulder is still
 60. The stock's triangles are binned by Z once (their X/Y extent per bin), and a cutter's box
-is the extent of the bins its Z range meets, grown by ``tol.trim_margin`` and rounded outward
-to a grid so that neighbouring cutters share their box's planes exactly.
+is the extent of the bins its Z range meets, grown by ``tol.trim_margin``, rounded outward
+to a grid, and then moved out by up to JITTER more, by an amount that differs from cutter to
+cutter (:func:`jitter`): neighbouring cutters then share no box plane. Exactly coplanar faces
+cost manifold3d's union of a batch more: on the finishing pass the unions alone took 2.5 s
+against 2.8–3.3 s with planes shared, the booleans 4.36 s against 4.73 s (means of four
+interleaved runs); a larger jitter makes the boxes, hence the fans' side lines, longer and
+the fans shorter, which gives the gain back.
 
 Why that box holds the stock there: a closed surface's points inside a slab lie on triangles
 that meet the slab, and the solid's section is bounded by its surface, so the extent of those
@@ -24,6 +29,7 @@ import numpy as np
 from vmach.tol import tol
 
 GRID = 0.5   # box planes rounded outward to multiples of this, mm
+JITTER = 0.1  # ... and then moved out by up to this much more, differently for each cutter, mm
 
 
 @dataclass(frozen=True)
@@ -59,9 +65,9 @@ class Slabs:
 
     def boxes(self, zlo: np.ndarray, zhi: np.ndarray, outer: np.ndarray) -> np.ndarray:
         """Boxes (k, 2, 3) for Z ranges [zlo, zhi] (k,): the extent of the bins they meet,
-        grown by the trim margin, rounded outward to ``GRID``, and within ``outer`` (2, 3)
-        (the box around the whole stock). A range that meets no material gets an empty box
-        (lo > hi), which culls what is in it."""
+        grown by the trim margin, rounded outward to ``GRID`` within ``outer`` (2, 3) (the box
+        around the whole stock), and moved out by :func:`jitter` (up to JITTER more). A
+        range that meets no material gets an empty box (lo > hi), which culls what is in it."""
         zlo = np.asarray(zlo, dtype=float)
         zhi = np.asarray(zhi, dtype=float)
         nb = len(self.lo)
@@ -81,4 +87,17 @@ class Slabs:
         out[:, 1, :2] = np.minimum(np.ceil((hi + m) / GRID) * GRID, outer[1, :2])
         out[:, 0, 2] = outer[0, 2]
         out[:, 1, 2] = outer[1, 2]
+        u = jitter(zlo, zhi)
+        out[:, 0] -= u[:, :3] * JITTER
+        out[:, 1] += u[:, 3:] * JITTER
         return out
+
+
+def jitter(zlo: np.ndarray, zhi: np.ndarray) -> np.ndarray:
+    """(k, 6) float in [0, 1): how far, in grid steps, each box's six planes move out — a
+    hash of the cutter's own Z range, so that the same cutter always gets the same box and
+    different cutters (almost surely) different ones."""
+    k = np.arange(6)
+    x = np.sin(np.asarray(zlo, float)[:, None] * (12.9898 + k) + np.asarray(zhi, float)[:, None] * 78.233
+               + 37.719 * k) * 43758.5453
+    return x - np.floor(x)
