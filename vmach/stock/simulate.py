@@ -303,18 +303,18 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
     local stock after the move."""
     cutters, _ = rapid if rapid is not None else stock.cutters(tool, tips, ax)
     if rapid is not None:
-        chip, after = engine.split(local, cutters)      # what the rapid removes, and the rest
+        cut = engine.union(cutters)
+        chip, after = engine.split(local, [cut])         # what the rapid removes, and the rest
         removed = engine.volume(chip)
-        centre = engine.centroid(chip) if removed > tol.removal_volume else None
         if removed > tol.removal_volume:
-            c = np.round(centre, 3).tolist()
+            c = np.round(engine.centroid(chip), 3).tolist()
             res.findings.append(Finding(
                 "rapid_into_stock", "error",
                 f"rapid move removes {removed:.3f} mm³ of material around "
                 f"({c[0]:.2f}, {c[1]:.2f}, {c[2]:.2f}) mm (work frame)",
                 table.source(row), row, {"volume_mm3": round(removed, 4), "at_mm": c}))
         elif clearance > 0 and cutters:
-            gap = engine.min_gap(local, engine.union(cutters), clearance)
+            gap = engine.min_gap(local, cut, clearance)
             if gap < clearance:
                 res.findings.append(Finding(
                     "near_miss", "warning",
