@@ -23,7 +23,7 @@ Cases
   blank; ``helix-naive N`` one hull per move.
 
 Figures on a loaded 2-core machine vary by tens of percent: ``--repeat`` runs each case N
-times and keeps the fastest (docs/stock.md says which).
+times and prints the fastest, and every run's total (docs/stock.md says which).
 """
 
 from __future__ import annotations
@@ -164,8 +164,10 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
 
 
 def run_case(kind: str, n: int = 0, program: str | None = None, repeat: int = 1) -> dict:
-    """Run a case in a child process ``repeat`` times; the fastest run."""
+    """Run a case in a child process ``repeat`` times; the fastest run, with every run's
+    total time (``totals``)."""
     best = None
+    totals = []
     for _ in range(max(1, repeat)):
         ctx = mp.get_context("fork")
         a, b = ctx.Pipe()
@@ -173,8 +175,10 @@ def run_case(kind: str, n: int = 0, program: str | None = None, repeat: int = 1)
         p.start()
         out = a.recv()
         p.join()
+        totals.append(out["total"])
         if best is None or out["total"] < best["total"]:
             best = out
+    best["totals"] = totals
     return best
 
 
@@ -186,6 +190,8 @@ def line(r: dict) -> str:
         dev += f"  (sampling bound {r['bound']:.4f} mm)"
     if r.get("fans"):
         dev += f"  [{r['fans']} fans, side-floor overcut <= {r['fan_overcut']:.4f} mm]"
+    if len(r.get("totals", ())) > 1:
+        dev += f"  (runs: {', '.join(f'{t:.2f}' for t in r['totals'])} s)"
     return (f"{r['case']:<16s} {r['moves']:>6d} moves {r['cutters']:>6d} cutters  sweep "
             f"{r['sweep']:6.2f} s  boolean {r['boolean']:7.2f} s  total {r['total']:7.2f} s  "
             f"peak {r['peak_mb']:6.0f} MB{dev}")
@@ -196,7 +202,8 @@ def main(argv=None) -> int:
     ap.add_argument("--program", help="NC program (default: the split reference, else POLY50.MPF)")
     ap.add_argument("--quick", action="store_true",
                     help="the program (plain and checked) and 1k/4k helices only: no before/naive cases")
-    ap.add_argument("--repeat", type=int, default=1, help="runs per case; the fastest is printed")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="runs per case; the fastest is printed, and every run's total")
     args = ap.parse_args(argv)
     print("vmach stock removal benchmark (2-core machine figures in docs/stock.md)")
     kinds = ["program", "program-checked"] + ([] if args.quick else ["program-before", "program-naive"])
