@@ -99,41 +99,43 @@ def sweep_shape(sh: Shape, frame_a: np.ndarray, frame_b: np.ndarray) -> Shape:
 
 
 def _box_edges(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Start points (12, 3) and direction vectors (12, 3) of the box's edges."""
-    corner = np.array([[hi[0] if i & 1 else lo[0], hi[1] if i & 2 else lo[1], hi[2] if i & 4 else lo[2]]
-                       for i in range(8)])
+    """Start points (m, 12, 3) and direction vectors (m, 12, 3) of the edges of boxes
+    [lo, hi] (m, 3)."""
+    bits = np.arange(8)[:, None] >> np.arange(3)[None, :] & 1                  # (8, 3)
+    corner = np.where(bits[None].astype(bool), hi[:, None, :], lo[:, None, :])  # (m, 8, 3)
     pairs = np.array([(i, i | (1 << ax)) for i in range(8) for ax in range(3) if not i & (1 << ax)])
-    return corner[pairs[:, 0]], corner[pairs[:, 1]] - corner[pairs[:, 0]]
+    return corner[:, pairs[:, 0]], corner[:, pairs[:, 1]] - corner[:, pairs[:, 0]]
 
 
 CHUNK = 128  # copies clipped together (bounds the temporary arrays to a few MB)
 
 
 def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None], np.ndarray]:
-    """Clip placed copies of a convex shape to the box [lo, hi].
+    """Clip placed copies of a convex shape to boxes [lo, hi].
 
     sh : the shape in the tool frame. frames : (m, 3, 4) float — rotation | translation.
-    Returns (points, inside): points[k] is an (q, 3) array whose hull is copy k ∩ box, or None
-    when copy k misses the box; inside (m,) bool marks copies wholly inside the box (their
-    points are the placed vertices, nothing was cut).
+    lo, hi : (3,) float — one box for all copies — or (m, 3): a box for each.
+    Returns (points, inside): points[k] is an (q, 3) array whose hull is copy k ∩ its box, or
+    None when copy k misses it (or the box is empty: lo > hi somewhere); inside (m,) bool marks
+    copies wholly inside their box (their points are the placed vertices, nothing was cut).
     """
     fr = np.asarray(frames, dtype=float).reshape(-1, 3, 4)
-    if len(fr) > CHUNK:
+    m = len(fr)
+    lo = np.broadcast_to(np.asarray(lo, dtype=float), (m, 3))
+    hi = np.broadcast_to(np.asarray(hi, dtype=float), (m, 3))
+    if m > CHUNK:
         out: list[np.ndarray | None] = []
         inside = []
-        for c0 in range(0, len(fr), CHUNK):
-            o, i = clip(sh, fr[c0 : c0 + CHUNK], lo, hi)
+        for c0 in range(0, m, CHUNK):
+            o, i = clip(sh, fr[c0 : c0 + CHUNK], lo[c0 : c0 + CHUNK], hi[c0 : c0 + CHUNK])
             out += o
             inside.append(i)
         return out, np.concatenate(inside)
-    lo = np.asarray(lo, dtype=float)
-    hi = np.asarray(hi, dtype=float)
-    m = len(fr)
     rot, t = fr[:, :, :3], fr[:, :, 3]
     P = sh.vertices @ rot.transpose(0, 2, 1) + t[:, None, :]                  # (m, p, 3)
     plo, phi = P.min(axis=1), P.max(axis=1)
     inside = np.all((plo >= lo) & (phi <= hi), axis=1)
-    miss = np.any((phi < lo) | (plo > hi), axis=1)
+    miss = np.any((phi < lo) | (plo > hi) | (lo > hi), axis=1)
     out = [None] * m
     for k in np.nonzero(inside)[0]:
         out[k] = P[k]
@@ -142,31 +144,32 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
         return out, inside
     Pt = P[todo]                                                              # (c, p, 3)
     c = len(todo)
-    keep = np.all((Pt >= lo) & (Pt <= hi), axis=2)                             # (c, p)
+    blo, bhi = lo[todo], hi[todo]                                             # (c, 3)
+    keep = np.all((Pt >= blo[:, None]) & (Pt <= bhi[:, None]), axis=2)         # (c, p)
     which, vert = np.nonzero(keep)
     idx: list[np.ndarray] = [which]
     pts: list[np.ndarray] = [Pt[which, vert]]
     A, B = Pt[:, sh.edges[:, 0]], Pt[:, sh.edges[:, 1]]                      # (c, e, 3)
     for ax in range(3):
         other = [i for i in range(3) if i != ax]
-        for val in (lo[ax], hi[ax]):
-            da, db = A[:, :, ax] - val, B[:, :, ax] - val
+        for val in (blo[:, ax], bhi[:, ax]):
+            da, db = A[:, :, ax] - val[:, None], B[:, :, ax] - val[:, None]
             which, edge = np.nonzero((da > 0) != (db > 0))
             if len(which) == 0:
                 continue
             s = da[which, edge] / (da[which, edge] - db[which, edge])
             a, b = A[which, edge], B[which, edge]
             x = a + (b - a) * s[:, None]
-            x[:, ax] = val
-            ok = np.all((x[:, other] >= lo[other]) & (x[:, other] <= hi[other]), axis=1)
+            x[:, ax] = val[which]
+            ok = np.all((x[:, other] >= blo[which][:, other]) & (x[:, other] <= bhi[which][:, other]), axis=1)
             idx.append(which[ok])
             pts.append(x[ok])
     # the box's edges clipped by each copy's face planes (Cyrus-Beck)
-    q0, dq = _box_edges(lo, hi)
+    q0, dq = _box_edges(blo, bhi)                                             # (c, 12, 3)
     N = sh.planes[:, :3] @ rot[todo].transpose(0, 2, 1)                       # (c, f, 3)
     D = sh.planes[None, :, 3] + np.matmul(N, t[todo][:, :, None])[:, :, 0]     # (c, f)
-    nd = np.matmul(N, dq.T).transpose(0, 2, 1)                                # (c, 12, f)
-    num = D[:, None, :] - np.matmul(N, q0.T).transpose(0, 2, 1)              # s * nd <= num
+    nd = np.matmul(dq, N.transpose(0, 2, 1))                                  # (c, 12, f)
+    num = D[:, None, :] - np.matmul(q0, N.transpose(0, 2, 1))                # s * nd <= num
     with np.errstate(divide="ignore", invalid="ignore"):
         r = num / nd
     s0 = np.maximum(np.where(nd < 0, r, -np.inf).max(axis=2), 0.0)
@@ -174,10 +177,11 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
     blocked = ((nd == 0) & (num < 0)).any(axis=2)
     which, edge = np.nonzero((s0 <= s1) & ~blocked)
     if len(which):
-        fixed = dq[edge] == 0
+        start, step = q0[which, edge], dq[which, edge]
+        fixed = step == 0
         for s in (s0[which, edge], s1[which, edge]):
             idx.append(which)
-            pts.append(np.where(fixed, q0[edge], q0[edge] + dq[edge] * s[:, None]))
+            pts.append(np.where(fixed, start, start + step * s[:, None]))
     allidx = np.concatenate(idx)
     allpts = np.concatenate(pts)
     order = np.argsort(allidx, kind="stable")

@@ -76,22 +76,11 @@ _IDENTITY = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
 
 
 def _clip_grouped(sh: Shape, fr: np.ndarray, boxes: np.ndarray):
-    """:func:`vmach.stock.clip.clip` of copies (m, 3, 4) each to its own box (m, 2, 3): copies
-    that share a box (most: boxes are rounded to a grid) are clipped together."""
-    out: list = [None] * len(fr)
-    inside = np.zeros(len(fr), bool)
+    """:func:`vmach.stock.clip.clip` of copies (m, 3, 4) each to its own box (m, 2, 3) (an
+    empty box culls its copy)."""
     if len(fr) == 0:
-        return out, inside
-    keys, which = np.unique(boxes.reshape(len(boxes), 6), axis=0, return_inverse=True)
-    for g, key in enumerate(keys):
-        rows = np.nonzero(which.ravel() == g)[0]
-        if np.any(key[:3] > key[3:]):
-            continue                                    # no material in the range: culled
-        pts, ins = clip(sh, fr[rows], key[:3], key[3:])
-        for r, q, i in zip(rows, pts, ins, strict=True):
-            out[r] = q
-            inside[r] = i
-    return out, inside
+        return [], np.zeros(0, bool)
+    return clip(sh, fr, boxes[:, 0], boxes[:, 1])
 
 
 def _run_frames(tips: np.ndarray, axes: np.ndarray, ends: list, segments: int) -> list:
