@@ -190,3 +190,28 @@ def test_slab_boxes_hold_the_stock_and_share_no_plane():
             planes = box[:, side, axis]
             assert len(np.unique(planes)) == len(planes)
     assert np.array_equal(slabs.boxes(zlo[:10], zhi[:10], outer), box[:10])
+
+
+def test_copies_clipped_each_to_its_own_box_are_clipped_as_one_by_one(d25_shape):
+    """clip with a box per copy (lo, hi (m, 3)) gives each copy what clipping it alone to its
+    box gives; an empty box (lo > hi) culls its copy."""
+    ts, sh = d25_shape
+    rng = np.random.default_rng(11)
+    c = rng.uniform(0, 360, 40)
+    tips, axes = turnmill(rng.uniform(15, 35, 40), rng.uniform(-8, 8, 40), rng.uniform(-45, 5, 40), c)
+    fr = frames(tips, axes)
+    lo = rng.uniform(-31, -15, (40, 3))
+    hi = rng.uniform(15, 31, (40, 3))
+    hi[::5, 2] = lo[::5, 2] - 1.0
+    together, inside = clip(sh, fr, lo, hi)
+    assert all(together[k] is None for k in range(0, 40, 5))
+    compared = 0
+    for k in range(40):
+        if k % 5 == 0:
+            continue
+        alone, alone_inside = clip(sh, fr[k : k + 1], lo[k], hi[k])
+        assert (alone[0] is None) == (together[k] is None) and alone_inside[0] == inside[k]
+        if alone[0] is not None:
+            compared += 1
+            assert np.array_equal(alone[0], together[k])
+    assert compared > 10
