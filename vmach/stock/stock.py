@@ -75,14 +75,6 @@ class CutStats:
 _IDENTITY = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
 
 
-def _clip_grouped(sh: Shape, fr: np.ndarray, boxes: np.ndarray):
-    """:func:`vmach.stock.clip.clip` of copies (m, 3, 4) each to its own box (m, 2, 3) (an
-    empty box culls its copy)."""
-    if len(fr) == 0:
-        return [], np.zeros(0, bool)
-    return clip(sh, fr, boxes[:, 0], boxes[:, 1])
-
-
 def _run_frames(tips: np.ndarray, axes: np.ndarray, ends: list, segments: int) -> list:
     """Frames ((3, 4), (3, 4)) of each translation run's two extreme poses (a, b) in ``ends``:
     the same turn about the (common) axis, with the polygon exact toward the run's own
@@ -454,8 +446,8 @@ class Stock:
         z = [place(ts.pieces[0], f)[:, :, 2] for f in fan_fr]
         fan_box = self._boxes(np.array([v.min() for v in z]), np.array([v.max() for v in z]))
         sizes = [len(f) for f in fan_fr]
-        trimmed, _ = _clip_grouped(self._tool_shapes(ts)[0], np.concatenate(fan_fr),
-                                   np.repeat(fan_box, sizes, axis=0))
+        boxes = np.repeat(fan_box, sizes, axis=0)
+        trimmed, _ = clip(self._tool_shapes(ts)[0], np.concatenate(fan_fr), boxes[:, 0], boxes[:, 1])
         starts = np.cumsum([0, *sizes])
         for f, (tips, axes, omega, _) in enumerate(fan_jobs):
             out += self._fan_cutters(ts, tips, axes, omega, fan_fr[f], fan_box[f],
@@ -472,7 +464,7 @@ class Stock:
             return [(engine.transform(solid, fr[j]), np.stack([placed[j].min(axis=0), placed[j].max(axis=0)]))
                     for j in range(len(fr))]
         pose_box = self._boxes(placed[:, :, 2].min(axis=1), placed[:, :, 2].max(axis=1))
-        trimmed, inside = _clip_grouped(self._tool_shapes(ts)[k], fr, pose_box)
+        trimmed, inside = clip(self._tool_shapes(ts)[k], fr, pose_box[:, 0], pose_box[:, 1])
         out = []
         for j, q in enumerate(trimmed):
             if q is None:
