@@ -35,6 +35,10 @@ class Tolerances:
     sweep_angle: float = 2.0
     #: Stock removal: largest tool-tip travel between two sampled poses of a rotary move, mm.
     sweep_step: float = 1.0
+    #: Stock removal: largest cusp a curved tool side (cylinder, cone, ball) may leave between
+    #: two placed poses of a rotary step, mm; steps that would leave more are cut into parts
+    #: (:mod:`vmach.stock.cusps`).
+    sweep_cusp: float = 0.01
     #: Polygonisation of revolved tool solids: largest radial deviation of the polygon from
     #: the true circle, mm (the polygon straddles the circle, so half of its sagitta). It bounds
     #: the error of surfaces made by a tool's side; a flat face is exact for any polygon. 0.01

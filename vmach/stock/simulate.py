@@ -134,10 +134,11 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
         q, k = sample_rows(q0[a:b], q1[a:b], rotary, model.fk, angle, step)
         pose = model.fk(q)
         res.kinematics_seconds += time.perf_counter() - tk
+        between = _between(q, model.fk)
         if checks:
-            _cut_checked(stock, found, table, a, b, k, pose, res, clearance)
+            _cut_checked(stock, found, table, a, b, k, pose, res, clearance, between)
         else:
-            stock.cut(found, pose.tip, pose.axis)
+            stock.cut(found, pose.tip, pose.axis, between)
         res.moves += b - a
         res.samples += len(q)
         if rotary.any() and len(q) > 1:
@@ -153,12 +154,25 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
     return res
 
 
+def _between(q: np.ndarray, fk, offset: int = 0):
+    """The poses inside sampled steps, as :meth:`Stock.cut` asks for them: the machine axes
+    ``q`` (m, k) of a path's samples interpolated linearly — as the control moves them within
+    a row — and run through the kinematics ``fk``. ``offset``: the first sample of the poses
+    the stock is given."""
+    def at(steps: np.ndarray, parts: np.ndarray):
+        rows = np.repeat(np.asarray(steps, dtype=int) + offset, parts - 1)
+        frac = np.concatenate([np.arange(1, p) / p for p in parts])
+        pose = fk(q[rows] + (q[rows + 1] - q[rows]) * frac[:, None])
+        return pose.tip, pose.axis, rows - offset + frac
+    return at
+
+
 CHUNK = 64  # moves screened together against the stock before them
 RAPIDS_JUDGED = 8  # a chunk's rapids are judged on the stock before it when there are no more
 
 
 def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose, res: SimResult,
-                 clearance: float = tol.near_miss) -> None:
+                 clearance: float = tol.near_miss, between=None) -> None:
     """Cut rows a..b-1 (samples: row j spans pose[first_j .. first_j + k_j]) and report rapids
     into material and shank/holder contact (:mod:`vmach.stock.events`).
 
@@ -172,8 +186,13 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
     cut later together with its neighbours, as one path (as without checks: fans and
     translation hulls run on across chunks). Otherwise the held chunks are cut, the chunk's
     rows are cut one by one from the local stock, and each watched row is measured on it
-    exactly; the chunk is then cut from the stock as one path."""
+    exactly; the chunk is then cut from the stock as one path. ``between``: the poses inside
+    sampled steps (:func:`_between`), for :meth:`Stock.cut`."""
     tips, ax = pose.tip, pose.axis
+
+    def inside(s: int):
+        return None if between is None else (lambda st, parts: _shift(between(st + s, parts), s))
+
     first = np.r_[0, np.cumsum(k)[:-1]]
     span = [(first[j], first[j] + k[j] + 1) for j in range(b - a)]
     cut_boxes = cylinder_boxes(tips, ax, 0.0, tool.cutting_length, tool.radius)
@@ -190,7 +209,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
 
     def release() -> None:
         if held[0] is not None:
-            stock.cut(tool, tips[held[0] : held[1]], ax[held[0] : held[1]])
+            stock.cut(tool, tips[held[0] : held[1]], ax[held[0] : held[1]], inside(held[0]))
             held[:] = [None, None]
 
     for c0 in range(0, b - a, CHUNK):
@@ -254,8 +273,14 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
                              probes.get(("rapid", j)),
                              [(p, probes[(p.name, j)][0]) for p in parts if (p.name, j) in probes], res,
                              clearance)
-        stock.cut(tool, tips[s:e], ax[s:e])
+        stock.cut(tool, tips[s:e], ax[s:e], inside(s))
     release()
+
+
+def _shift(poses: tuple, s: int) -> tuple:
+    """Poses from :func:`_between` with their places counted from sample ``s``."""
+    t, a, at = poses
+    return t, a, at - s
 
 
 def _around(probes: dict, here: np.ndarray, clearance: float) -> tuple[np.ndarray, np.ndarray]:

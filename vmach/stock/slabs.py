@@ -37,13 +37,17 @@ class Slabs:
     """X/Y extent of a surface per Z bin.
 
     z0 : float — bottom of bin 0; step : float — bin height; lo, hi : (b, 2) float — X/Y
-    extent of the triangles meeting each bin (+inf/-inf for an empty bin).
+    extent of the triangles meeting each bin (+inf/-inf for an empty bin); rmax : (b,) float —
+    their largest distance from the Z axis (-inf when empty); top : float — the surface's
+    highest Z.
     """
 
     z0: float
     step: float
     lo: np.ndarray
     hi: np.ndarray
+    rmax: np.ndarray
+    top: float
 
     @classmethod
     def from_mesh(cls, vertices: np.ndarray, faces: np.ndarray, step: float = 1.0) -> Slabs:
@@ -61,7 +65,21 @@ class Slabs:
         hi = np.full((nb, 2), -np.inf)
         np.minimum.at(lo, bins, xy_lo[which])
         np.maximum.at(hi, bins, xy_hi[which])
-        return cls(z0, step, lo, hi)
+        rmax = np.full(nb, -np.inf)
+        np.maximum.at(rmax, bins, np.hypot(tri[:, :, 0], tri[:, :, 1]).max(axis=1)[which])
+        return cls(z0, step, lo, hi, rmax, float(zmax.max()) if len(tri) else 0.0)
+
+    def holds(self, points: np.ndarray) -> np.ndarray:
+        """(...) bool: points (..., 3) that may lie in the solid — within its Z range, and
+        within the X/Y extent and the largest radius about Z of their bin's triangles (a
+        superset of the solid, without margin)."""
+        p = np.asarray(points, dtype=float)
+        b = np.floor((p[..., 2] - self.z0) / self.step).astype(int)
+        ok = (p[..., 2] >= self.z0) & (p[..., 2] <= self.top)
+        b = np.clip(b, 0, len(self.lo) - 1)
+        lo, hi = self.lo[b], self.hi[b]
+        ok &= np.all((p[..., :2] >= lo) & (p[..., :2] <= hi), axis=-1)
+        return ok & (np.hypot(p[..., 0], p[..., 1]) <= self.rmax[b])
 
     def boxes(self, zlo: np.ndarray, zhi: np.ndarray, outer: np.ndarray) -> np.ndarray:
         """Boxes (k, 2, 3) for Z ranges [zlo, zhi] (k,): the extent of the bins they meet,

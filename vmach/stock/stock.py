@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from vmach.errors import InputError
-from vmach.stock import engine
+from vmach.stock import cusps, engine
 from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, clip, shape, sweep_shape
 from vmach.stock.fan import (
@@ -55,8 +55,9 @@ class CutStats:
     cutters : cutters made; culled : cutters that miss the stock; covered : placed poses left
     out because a translation hull contains them; fans : fan cutters (:mod:`vmach.stock.fan`)
     and fan_poses : the poses they cover; fan_overcut_mm : the largest bridge of a fan's hull
-    over the floor its tool's side sweeps, measured (mm); sweep_seconds : making cutters;
-    boolean_seconds : batch booleans.
+    over the floor its tool's side sweeps, measured (mm); cusp_poses : placed poses added
+    between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`);
+    sweep_seconds : making cutters; boolean_seconds : batch booleans.
     """
 
     paths: int = 0
@@ -67,6 +68,7 @@ class CutStats:
     fans: int = 0
     fan_poses: int = 0
     fan_overcut_mm: float = 0.0
+    cusp_poses: int = 0
     batches: int = 0
     sweep_seconds: float = 0.0
     boolean_seconds: float = 0.0
@@ -215,16 +217,22 @@ class Stock:
         return np.stack([b[0] - tol.trim_margin, b[1] + tol.trim_margin])
 
     # ----------------------------------------------------------------------------------------
-    def cut(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray) -> int:
+    def cut(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None) -> int:
         """Queue the swept volume of one path; returns the number of cutters made.
 
         tool : Tool (polygonised with this stock's chord) or a ready ToolSolid.
         tips : (n, 3) float, mm; axes : (n, 3) float, unit — poses in the work frame, joined by
         motion in order. A rotary path must be sampled densely enough for the wanted accuracy
         (see :mod:`vmach.stock.sweep`).
+        between : callable ``(steps (s,) int, parts (s,) int) -> (tips (e, 3), axes (e, 3),
+            at (e,) float)`` giving the poses that cut each step ``i`` (from pose i to i+1)
+            into ``parts`` equal parts of the motion — the ``parts - 1`` poses strictly inside,
+            step by step, ``at`` = i + fraction. With it, rotary steps placed as poses get
+            more poses where a curved side of a Tool would leave cusps over
+            ``tol.sweep_cusp`` (:mod:`vmach.stock.cusps`).
         """
         n = 0
-        for ts, jobs in self._sweep(tool, tips, axes):
+        for ts, jobs in self._sweep(tool, tips, axes, between):
             t0 = time.perf_counter()
             cutters, boxes = self._make(ts, jobs)
             self.stats.sweep_seconds += time.perf_counter() - t0
@@ -232,12 +240,13 @@ class Stock:
             n += len(cutters)
         return n
 
-    def cutters(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray):
+    def cutters(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None):
         """The solids a path sweeps (placed pieces and translation hulls, trimmed to
-        :meth:`trim_box`) and their boxes (c, 2, 3), without queueing them."""
+        :meth:`trim_box`) and their boxes (c, 2, 3), without queueing them (``between``: as
+        for :meth:`cut`)."""
         cutters: list[engine.Solid] = []
         boxes: list[np.ndarray] = []
-        for ts, jobs in self._sweep(tool, tips, axes):
+        for ts, jobs in self._sweep(tool, tips, axes, between):
             t0 = time.perf_counter()
             c, b = self._make(ts, jobs)
             self.stats.sweep_seconds += time.perf_counter() - t0
@@ -245,7 +254,7 @@ class Stock:
             boxes += b
         return cutters, boxes
 
-    def _sweep(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray):
+    def _sweep(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None):
         """Yield (tool solid, jobs) for consecutive stretches of a path, in path order. A job
         is ``(piece, frames (m, 3, 4) of placed poses, [(frame_a, frame_b) of each translation
         run], [(tips, axes, omega, frames) of each fan run — piece 0 only])``. Every pose is
@@ -281,7 +290,14 @@ class Stock:
         if len(fans.runs):
             poses = _outside_runs(poses, fans.runs)
             runs = runs[~_within(runs, fans.runs)]
-        start = np.concatenate([poses, runs[:, 0].astype(int), fans.runs[:, 0]])
+        key = poses.astype(float)                 # where each placed pose lies along the path
+        if between is not None and self.trim and isinstance(tool, Tool):
+            more, at = self._cusp_poses(tool, ts, tips, fr, rotary, fans.runs, between)
+            if len(more):
+                poses = np.r_[poses, len(fr) + np.arange(len(more))]
+                key = np.r_[key, at]
+                fr = np.concatenate([fr, more])
+        start = np.concatenate([key, runs[:, 0], fans.runs[:, 0]])
         kind = np.r_[np.zeros(len(poses), int), np.ones(len(runs), int), np.full(len(fans.runs), 2)]
         which = np.r_[np.arange(len(poses)), np.arange(len(runs)), np.arange(len(fans.runs))].astype(int)
         order = np.argsort(start, kind="stable")
@@ -298,6 +314,42 @@ class Stock:
             yield ts, jobs
             t0 = time.perf_counter()
         self.stats.sweep_seconds += time.perf_counter() - t0
+
+    def _cusp_poses(self, tool: Tool, ts: ToolSolid, tips: np.ndarray, fr: np.ndarray, rotary: np.ndarray,
+                    fan_runs: np.ndarray, between) -> tuple[np.ndarray, np.ndarray]:
+        """Placed poses to add inside the rotary steps (n-1,) bool that no fan cutter holds,
+        where the tool's curved side would leave cusps over ``tol.sweep_cusp`` between the
+        step's two poses (:mod:`vmach.stock.cusps`): frames (e, 3, 4) — turned as placed
+        poses are — and their places along the path (e,) float (step + fraction)."""
+        none = np.zeros((0, 3, 4)), np.zeros(0)
+        steps = np.asarray(rotary, bool).copy()
+        for a, b in fan_runs:
+            steps[a:b] = False
+        # steps whose tool may reach the stock's bounds at all
+        b = self.bounds
+        reach = ts.length + ts.radius
+        near = np.all((tips >= b[0] - reach) & (tips <= b[1] + reach), axis=1)
+        idx = np.nonzero(steps & (near[:-1] | near[1:]))[0]
+        sd = cusps.side(tool)
+        if len(idx) == 0 or len(sd.points) == 0:
+            return none
+        parts = cusps.substeps(cusps.step_cusps(sd, fr[idx], fr[idx + 1], self._holds))
+        need = parts > 1
+        if not need.any():
+            return none
+        t, a, at = between(idx[need], parts[need])
+        unit = np.asarray(a, dtype=float) / np.linalg.norm(a, axis=1, keepdims=True)
+        travel = np.repeat(tips[idx[need] + 1] - tips[idx[need]], parts[need] - 1, axis=0)
+        self.stats.cusp_poses += len(t)
+        return spun(frames(t, unit), across(unit, travel), ts.segments), np.asarray(at, dtype=float)
+
+    def _holds(self, points: np.ndarray) -> np.ndarray:
+        """(...) bool: points (..., 3) that may lie in the stock (a superset: the trim slabs'
+        extents, :meth:`vmach.stock.slabs.Slabs.holds`, or the stock's bounds)."""
+        if self._slabs is not None and self.SLABS:
+            return self._slabs.holds(points)
+        b = self.bounds
+        return np.all((points >= b[0]) & (points <= b[1]), axis=-1)
 
     def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray,
               slides: np.ndarray):

@@ -1,0 +1,105 @@
+"""Cusps between placed poses (vmach/stock/cusps.py): measured against geometry known on its
+own — the gap between two circles, a side's curvature, the floor a round side sweeps
+continuously — and the poses that cut them down."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from tests.stock.conftest import turnmill
+from tests.stock.test_fans import floor_hits, true_floor
+from vmach.stock import Stock
+from vmach.stock.cusps import AROUND, cusp_height, side, step_cusps, substeps
+from vmach.tol import tol
+from vmach.tooling import Tool, frames, tool_solid
+
+
+def test_cusp_height_is_the_gap_between_two_imprints():
+    # two circles of radius R whose centres lie s apart on a line meet R - sqrt(R^2 - s^2/4)
+    # above the line they both touch
+    for radius, s in ((5.0, 1.0), (12.5, 0.8), (1.0, 1.9)):
+        centres = np.array([[-s / 2, radius], [s / 2, radius]])
+        meet_y = centres[0, 1] - math.sqrt(radius**2 - (s / 2) ** 2)
+        assert cusp_height(np.array(s), np.array(1.0 / radius)) == pytest.approx(meet_y, abs=1e-12)
+    assert cusp_height(np.array(3.0), np.array(1.0)) == pytest.approx(1.0)   # at most the radius
+    assert cusp_height(np.array(3.0), np.array(0.0)) == 0.0                  # flat: none
+
+
+def test_side_curvatures_are_the_tools(library):
+    cone = side(library.lookup("GLOD D16_15"))       # edge 15 deg to the end plane
+    r = np.hypot(cone.points[:, 0], cone.points[:, 1])
+    on_cone = cone.points[:, 2] < 8.0 * math.tan(math.radians(15.0)) - 1e-9
+    assert on_cone.any()
+    assert cone.across[on_cone] == pytest.approx(math.cos(math.radians(75.0)) / r[on_cone])
+    assert np.all(cone.down == 0.0)                  # straight generators
+    mill = side(library.lookup("GLOD D25"))
+    assert mill.across == pytest.approx(1.0 / 12.5)  # the cylinder; its end face is not sampled
+    assert mill.points[:, 2].min() == 0.0
+    assert np.hypot(mill.points[:, 0], mill.points[:, 1]) == pytest.approx(12.5)
+    ball = side(Tool(name="ball", kind="ball", diameter=10.0, cutting_length=20.0))
+    assert ball.down.max() == pytest.approx(0.2)
+
+
+def test_a_side_moved_across_its_axis_leaves_the_two_circle_cusp():
+    tool = Tool(name="flat10", kind="flat", diameter=10.0, cutting_length=20.0)
+    sd = side(tool)
+    tips = np.array([[0.0, 0.0, 0.0], [0.8, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    axes = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    fr = frames(tips, axes)
+    everywhere = lambda p: np.ones(p.shape[:-1], bool)   # noqa: E731
+    nowhere = lambda p: np.zeros(p.shape[:-1], bool)     # noqa: E731
+    c = step_cusps(sd, fr[:1], fr[1:2], everywhere)
+    # the samples around lie 360/AROUND deg apart, the nearest pi/AROUND off the side that
+    # faces across the travel, and its travel across is taken 1/cos(pi/AROUND) larger: the
+    # whole spacing, as the side facing across sees it
+    sampled = 0.8 * math.cos(math.pi / AROUND)
+    assert c[0] == pytest.approx(cusp_height(np.array(sampled / math.cos(math.pi / AROUND)), np.array(0.2)))
+    assert c[0] == pytest.approx(cusp_height(np.array(0.8), np.array(0.2)))
+    assert step_cusps(sd, fr[:1], fr[2:3], everywhere)[0] == 0.0     # no travel
+    assert step_cusps(sd, fr[:1], fr[1:2], nowhere)[0] == 0.0        # not in the material
+    assert list(substeps(np.array([0.0, 0.01, 0.0101, 0.04, 0.041, 10.0]), 0.01)) == [1, 1, 2, 2, 3, 8]
+
+
+def test_placed_poses_get_the_poses_between_that_keep_the_side_made_floor_within_the_cusp():
+    """A Ø10 end mill, radial at X = 12, turned 6 deg per step about the work axis: its side
+    cuts a shoulder floor 5 mm below the tip's height, and placed poses leave cusps on it of
+    R - sqrt(R² - (r·sin 3°)²), 0.06 mm at r = 15. With the poses between from the control's
+    motion (here: C interpolated), the floor is within ``tol.sweep_cusp`` of the true floor
+    the continuous motion cuts, plus the tool polygon's deviation, and never below it. (Fans
+    off: a flat end mill's rotary run is otherwise one fan cutter, whose hull leaves no cusp
+    — and gets no poses added but for the steps left to placed poses.)"""
+    tool = Tool(name="flat10", kind="flat", diameter=10.0, cutting_length=20.0)
+    c = np.arange(0.0, 61.0, 6.0)
+    tips, axes = turnmill(12.0, 0.0, -2.0, c)
+
+    def between(steps, parts):
+        at = np.concatenate([s + np.arange(1, p) / p for s, p in zip(steps, parts, strict=True)])
+        t, a = turnmill(12.0, 0.0, -2.0, np.interp(at, np.arange(len(c)), c))
+        return t, a, at
+
+    plain = Stock.from_spec("cylinder:d=30,l=20", fans=False)
+    plain.cut(tool, tips, axes)
+    refined = Stock.from_spec("cylinder:d=30,l=20", fans=False)
+    refined.cut(tool, tips, axes, between)
+    fanned = Stock.from_spec("cylinder:d=30,l=20")
+    fanned.cut(tool, tips, axes, between)
+    # fans take runs of up to tol.fan_angle (3 steps here); the one step left over is placed
+    assert fanned.stats.fans > 0 and 0 < fanned.stats.cusp_poses < refined.stats.cusp_poses
+    assert plain.stats.cusp_poses == 0 and refined.stats.cusp_poses > 0
+    phis = np.radians(np.linspace(1.0, 59.0, 117))
+    rs = np.linspace(12.2, 14.8, 14)
+    truth = true_floor(phis, rs, 12.0, 5.0, c, np.full(len(c), -2.0))
+    dev = tool_solid(tool, refined.chord).deviation
+    left_plain = floor_hits(plain.solid, phis, rs) - truth
+    left = floor_hits(refined.solid, phis, rs) - truth
+    assert np.nanmax(left_plain) > 0.05                       # 5 - sqrt(25 - (15 sin 3°)²) = 0.062
+    assert np.nanmax(left) <= tol.sweep_cusp + dev
+    assert np.nanmin(left) >= -dev - 1e-6                     # placed poses: never below
+    assert np.nanmax(left) < 0.3 * np.nanmax(left_plain)
+    left_fanned = floor_hits(fanned.solid, phis, rs) - truth
+    assert np.nanmax(left_fanned) <= tol.sweep_cusp + dev
+    # what the added poses remove is material the plain cut left
+    assert refined.volume < plain.volume

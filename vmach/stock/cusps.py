@@ -1,0 +1,143 @@
+"""Cusps between placed poses of a rotary step, and how many poses to add against them.
+
+A rotary step cut by placing the tool at its two ends (:mod:`vmach.stock.sweep`) leaves the
+material the tool sweeps between them and neither end reaches: where a curved side makes the
+surface, a cusp between two imprints. Imprints ``s`` apart of a side of normal curvature
+κ_t on a surface that is itself convex toward the tool with curvature κ_w leave
+
+    c = ρ − √(ρ² − s²/4),   1/ρ = κ_t + κ_w          (≈ s²·(κ_t + κ_w) / 8; at most ρ)
+
+— the sagitta of the relative circle of curvature over the chord s (two circles of
+curvatures κ_t and κ_w touching: their gap at ±s/2). For a point of the tool's surface
+that a step moves by ``d`` while the tool turns by δ:
+
+- s is its travel across the side's straight generators (along the circumferential
+  direction, for κ_t = cos(normal, radial)/r — a cylinder 1/R, a cone of half angle α at
+  radius r cos α / r; and along the profile, for a ball's or a bull nose's arc: 1/its
+  radius). Travel along a straight generator leaves no cusp.
+- κ_w = δ / |d|: the point turns about the step's centre of rotation at that distance, and
+  so does the surface it makes (the material lies around that centre: a shaft turning on
+  its axis). On a flat face (κ_t = 0) this is the scallop ``r·δ²/8`` that the angle limit
+  bounds (:func:`vmach.stock.sweep.scallop_bound`): end faces are not sampled.
+
+The tip-step limit (``tol.sweep_step``) bounds s only at the tip. The chamfer mill of the
+polygon-shaft program, 1 mm from its sharp tip (κ_t = cos 75° / 1 mm), left 0.031 mm at a
+1 mm step; the Ø25 end mill's side at the shoulder, 26 mm from the axis, 0.016 mm.
+:func:`step_cusps` takes each step's largest cusp over sample points of the side that may
+lie in the material, and :func:`substeps` how many parts the step must be cut into so that
+none exceeds ``tol.sweep_cusp``: a cusp shrinks with the square of the spacing,
+``m = ⌈√(c / c_max)⌉``. The added poses are placed poses, which never cut more than the true
+sweep. Fan cutters' steps need none (their hull fills the cusps, :mod:`vmach.stock.fan`),
+nor do translation runs (exact).
+
+Lengths mm, curvatures 1/mm.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from vmach.tol import tol
+from vmach.tooling.model import Tool
+
+AROUND = 32        # sample points around the axis per height
+SPACING = 0.5      # mm between sample heights along the profile
+MOST = 8           # parts a step is cut into at most
+
+
+@dataclass(frozen=True)
+class Side:
+    """Sample points of a tool's side, tool frame (tip at the origin, axis +z).
+
+    points : (p, 3) float, mm; around, along : (p, 3) float — unit tangents across the axis
+    (circumferential) and along the profile (meridian); across, down : (p,) float, 1/mm — the
+    side's normal curvature in those two directions (0 along a straight profile).
+    """
+
+    points: np.ndarray
+    around: np.ndarray
+    along: np.ndarray
+    across: np.ndarray
+    down: np.ndarray
+
+
+_CACHE: dict[tuple, Side] = {}
+
+
+def side(tool: Tool) -> Side:
+    """The side of ``tool`` sampled (cached per tool geometry). End faces are left out: the
+    scallop a flat face leaves is the angle limit's (:func:`vmach.stock.sweep.scallop_bound`,
+    reported with the simulation)."""
+    key = tool.geometry_key()
+    if key in _CACHE:
+        return _CACHE[key]
+    prof = tool.profile(tol.tool_chord)
+    arc_radius = {"ball": tool.radius, "bull": tool.corner_radius}.get(tool.kind, 0.0)
+    ang = 2.0 * np.pi * (np.arange(AROUND) + 0.5) / AROUND
+    cs = np.column_stack([np.cos(ang), np.sin(ang)])
+    cols: list[list[np.ndarray]] = [[], [], [], [], []]
+    for (z0, r0), (z1, r1) in zip(prof[:-1], prof[1:], strict=True):
+        dz, dr = z1 - z0, r1 - r0
+        length = math.hypot(dz, dr)
+        if abs(dz) <= 1e-12 or length <= 1e-12:
+            continue              # an end face (its scallop: the angle bound), or nothing
+        t = np.linspace(0.0, 1.0, max(2, math.ceil(length / SPACING) + 1))
+        z, r = z0 + dz * t, r0 + dr * t
+        keep = r > 1e-9
+        # the profile's outward normal in (z, r) is (-dr, dz)/length: its radial part over r
+        # is the curvature across the axis (Meusnier)
+        kc = abs(dz / length) / r[keep]
+        km = 1.0 / arc_radius if arc_radius > 0 and abs(dr) > 1e-12 and abs(dz) > 1e-12 else 0.0
+        for zi, ri, ki in zip(z[keep], r[keep], kc, strict=True):
+            cols[0].append(np.column_stack([cs * ri, np.full(AROUND, zi)]))
+            cols[1].append(np.column_stack([-cs[:, 1], cs[:, 0], np.zeros(AROUND)]))
+            cols[2].append(np.column_stack([cs * (dr / length), np.full(AROUND, dz / length)]))
+            cols[3].append(np.full(AROUND, ki))
+            cols[4].append(np.full(AROUND, km))
+    shapes = [(0, 3)] * 3 + [(0,)] * 2
+    out = Side(*(np.concatenate(c) if c else np.zeros(s) for c, s in zip(cols, shapes, strict=True)))
+    _CACHE[key] = out
+    return out
+
+
+def cusp_height(spacing: np.ndarray, kappa: np.ndarray) -> np.ndarray:
+    """Cusp (mm) between imprints ``spacing`` apart, relative curvature ``kappa``: the
+    sagitta of that circle over the chord, at most its radius (0 where kappa is 0)."""
+    rho = 1.0 / np.maximum(kappa, 1e-12)
+    sag = rho - np.sqrt(np.maximum(rho * rho - spacing * spacing / 4.0, 0.0))
+    return np.where(kappa > 0, sag, 0.0)
+
+
+def step_cusps(sd: Side, frames_a: np.ndarray, frames_b: np.ndarray, holds) -> np.ndarray:
+    """(s,) mm: the largest cusp each step leaves between its two placed poses (frames
+    (s, 3, 4) each, tool to work), over the side's sample points that may lie in the
+    material at either end (``holds``: points (..., 3) -> bool, a superset of the stock)."""
+    if len(sd.points) == 0 or len(frames_a) == 0:
+        return np.zeros(len(frames_a))
+    rot, t = frames_a[:, :, :3], frames_a[:, :, 3]
+    rel = np.matmul(rot.transpose(0, 2, 1), frames_b[:, :, :3])          # b in a's frame
+    shift = np.einsum("sji,sj->si", rot, frames_b[:, :, 3] - t)
+    # each point's travel over the step, in pose a's tool frame
+    d = np.matmul(sd.points, (rel - np.eye(3)).transpose(0, 2, 1)) + shift[:, None, :]
+    # the tool's turn over the step (radians), from the relative rotation's trace
+    turn = np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0))
+    travel = np.linalg.norm(d, axis=2)
+    kw = turn[:, None] / np.maximum(travel, 1e-12)
+    # the samples around lie 2π/AROUND apart: the largest travel across is at most 1/cos(π/AROUND)
+    # of the largest sampled one
+    across = np.abs(np.einsum("spi,pi->sp", d, sd.around)) / math.cos(math.pi / AROUND)
+    down = np.abs(np.einsum("spi,pi->sp", d, sd.along))
+    c = np.maximum(cusp_height(across, sd.across[None, :] + kw), cusp_height(down, sd.down[None, :] + kw))
+    pa = np.matmul(sd.points, rot.transpose(0, 2, 1)) + t[:, None, :]
+    c = np.where(holds(pa) | holds(pa + np.matmul(d, rot.transpose(0, 2, 1))), c, 0.0)
+    return c.max(axis=1)
+
+
+def substeps(cusps: np.ndarray, most: float = tol.sweep_cusp) -> np.ndarray:
+    """(s,) int: parts to cut each step into so that its cusps (mm) stay within ``most``
+    (cusps shrink with the square of the spacing), at most MOST."""
+    m = np.ceil(np.sqrt(np.asarray(cusps, dtype=float) / most) - 1e-9)
+    return np.clip(m, 1, MOST).astype(int)
