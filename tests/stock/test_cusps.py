@@ -103,3 +103,64 @@ def test_placed_poses_get_the_poses_between_that_keep_the_side_made_floor_within
     assert np.nanmax(left_fanned) <= tol.sweep_cusp + dev
     # what the added poses remove is material the plain cut left
     assert refined.volume < plain.volume
+
+
+CHAMFER = """N10 G0 G53 X325 Y0 D0
+N20 T="GLOD D16_15" D1
+N30 G54 G19 G90
+N40 DIAMOF
+N50 SETMS(2)
+N60 G94 S2=1350 M2=3
+N70 C_AXIS_ON
+N80 C1=0
+N90 G0 X40 Y0 Z1
+N100 G1 X29 F400
+N110 R1=0
+N120 WHILE R1<90
+N130 R1=R1+6
+N140 G1 C1=R1
+N150 ENDWHILE
+N160 G1 X40
+N170 M30
+"""
+
+
+def test_simulate_adds_the_controls_own_poses_where_a_cone_tip_would_leave_cusps(tmp_path):
+    """The chamfer mill, its sharp tip 1 mm in front of a Ø60 shaft's end face and 1 mm
+    inside its radius, turned 6 deg per block: rows are sampled to 2 deg (the tip travels
+    1 mm), and the cone, 1 mm from its tip at the end face, would leave cusps of about 0.03 mm
+    between them. The poses added lie on the control's motion (machine axes interpolated linearly,
+    through the kinematics), in plain and in checked runs alike, which cut the same part."""
+    from catalog import POLYGON_TOOLS
+
+    from interpreters import sinumerik
+    from vmach.machine import load_model
+    from vmach.motion.table import build
+    from vmach.stock.simulate import _between, simulate
+    from vmach.tooling import load_tools
+
+    path = tmp_path / "CHAMFER.MPF"
+    path.write_text(CHAMFER)
+    model = load_model("turnmill")
+    table = build(sinumerik.run(str(path), model.control).commands, model.control)
+    lib = load_tools(POLYGON_TOOLS)
+    stocks = {}
+    for checks in (False, True):
+        stocks[checks] = Stock.from_spec("cylinder:d=60,l=20")
+        simulate(table, model, lib, stocks[checks], checks=checks)
+        assert stocks[checks].stats.cusp_poses > 0
+    assert stocks[True].volume == pytest.approx(stocks[False].volume, abs=1e-6)
+    # the poses between: fk of the machine axes interpolated, placed at step + fraction
+    q = np.array([[10.0, 0.0, 1.0, 0.0], [14.0, 2.0, 1.0, 6.0], [14.0, 2.0, 1.0, 12.0]])
+    cols = list(model.axes)
+    full = np.tile(np.asarray(model.home, dtype=float), (3, 1))
+    for j, a in enumerate(("X", "Y", "Z", "C1")):
+        full[:, cols.index(a)] = q[:, j]
+    tips, axes, at = _between(full, model.fk)(np.array([0, 1]), np.array([2, 3]))
+    assert list(at) == pytest.approx([0.5, 1 + 1 / 3, 1 + 2 / 3])
+    want = model.fk(np.vstack([(full[0] + full[1]) / 2, full[1] + (full[2] - full[1]) / 3,
+                               full[1] + 2 * (full[2] - full[1]) / 3]))
+    assert tips == pytest.approx(want.tip) and axes == pytest.approx(want.axis)
+    shifted = _between(full, model.fk, offset=1)(np.array([0]), np.array([2]))
+    assert shifted[2][0] == pytest.approx(0.5)
+    assert shifted[0] == pytest.approx(model.fk(full[1:2] + (full[2] - full[1]) / 2).tip)
