@@ -119,6 +119,7 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             out.update(cutters=stock.stats.cutters, sweep=stock.stats.sweep_seconds + sim.kinematics_seconds,
                        boolean=stock.stats.boolean_seconds, bound=sim.bound_mm,
                        fans=stock.stats.fans, fan_overcut=stock.stats.fan_overcut_mm,
+                       cusp_poses=stock.stats.cusp_poses,
                        findings=len(sim.findings), triangles=engine.num_triangles(part))
             out["total"] = time.perf_counter() - t_all
             out["dev"] = _deviation(stock.section)
@@ -190,6 +191,8 @@ def line(r: dict) -> str:
         dev += f"  (sampling bound {r['bound']:.4f} mm)"
     if r.get("fans"):
         dev += f"  [{r['fans']} fans, side-floor overcut <= {r['fan_overcut']:.4f} mm]"
+    if r.get("cusp_poses"):
+        dev += f"  [{r['cusp_poses']} poses added against cusps]"
     if len(r.get("totals", ())) > 1:
         dev += f"  (runs: {', '.join(f'{t:.2f}' for t in r['totals'])} s)"
     return (f"{r['case']:<16s} {r['moves']:>6d} moves {r['cutters']:>6d} cutters  sweep "
