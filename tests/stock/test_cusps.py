@@ -164,3 +164,17 @@ def test_simulate_adds_the_controls_own_poses_where_a_cone_tip_would_leave_cusps
     shifted = _between(full, model.fk, offset=1)(np.array([0]), np.array([2]))
     assert shifted[2][0] == pytest.approx(0.5)
     assert shifted[0] == pytest.approx(model.fk(full[1:2] + (full[2] - full[1]) / 2).tip)
+
+
+def test_steps_are_measured_in_blocks_with_the_same_result(monkeypatch):
+    import vmach.stock.cusps as cusps_module
+
+    tool = Tool(name="flat10", kind="flat", diameter=10.0, cutting_length=20.0)
+    sd = side(tool)
+    tips, axes = turnmill(12.0, 0.0, -2.0, np.arange(0.0, 60.0, 3.0))
+    fr = frames(tips, axes)
+    everywhere = lambda p: np.ones(p.shape[:-1], bool)   # noqa: E731
+    whole = step_cusps(sd, fr[:-1], fr[1:], everywhere)
+    monkeypatch.setattr(cusps_module, "BLOCK", 3 * len(sd.points))
+    assert np.array_equal(step_cusps(sd, fr[:-1], fr[1:], everywhere), whole)
+    assert whole.min() > 0

@@ -46,6 +46,7 @@ from vmach.tooling.model import Tool
 AROUND = 32        # sample points around the axis per height
 SPACING = 0.5      # mm between sample heights along the profile
 MOST = 8           # parts a step is cut into at most
+BLOCK = 200_000    # steps × sample points measured at a time (bounds the temporary arrays)
 
 
 @dataclass(frozen=True)
@@ -117,6 +118,10 @@ def step_cusps(sd: Side, frames_a: np.ndarray, frames_b: np.ndarray, holds) -> n
     material at either end (``holds``: points (..., 3) -> bool, a superset of the stock)."""
     if len(sd.points) == 0 or len(frames_a) == 0:
         return np.zeros(len(frames_a))
+    if len(frames_a) * len(sd.points) > BLOCK:
+        k = max(1, BLOCK // len(sd.points))
+        return np.concatenate([step_cusps(sd, frames_a[i : i + k], frames_b[i : i + k], holds)
+                               for i in range(0, len(frames_a), k)])
     rot, t = frames_a[:, :, :3], frames_a[:, :, 3]
     rel = np.matmul(rot.transpose(0, 2, 1), frames_b[:, :, :3])          # b in a's frame
     shift = np.einsum("sji,sj->si", rot, frames_b[:, :, 3] - t)
