@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 
@@ -134,11 +135,10 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
         q, k = sample_rows(q0[a:b], q1[a:b], rotary, model.fk, angle, step)
         pose = model.fk(q)
         res.kinematics_seconds += time.perf_counter() - tk
-        between = _between(q, model.fk)
         if checks:
-            _cut_checked(stock, found, table, a, b, k, pose, res, clearance, between)
+            _cut_checked(stock, found, table, a, b, k, pose, res, clearance, partial(_between, q, model.fk))
         else:
-            stock.cut(found, pose.tip, pose.axis, between)
+            stock.cut(found, pose.tip, pose.axis, _between(q, model.fk))
         res.moves += b - a
         res.samples += len(q)
         if rotary.any() and len(q) > 1:
@@ -186,12 +186,13 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
     cut later together with its neighbours, as one path (as without checks: fans and
     translation hulls run on across chunks). Otherwise the held chunks are cut, the chunk's
     rows are cut one by one from the local stock, and each watched row is measured on it
-    exactly; the chunk is then cut from the stock as one path. ``between``: the poses inside
-    sampled steps (:func:`_between`), for :meth:`Stock.cut`."""
+    exactly; the chunk is then cut from the stock as one path. ``between(offset)``: the poses
+    inside sampled steps for :meth:`Stock.cut` given the samples from ``offset`` on
+    (:func:`_between` of the path's machine axes)."""
     tips, ax = pose.tip, pose.axis
 
     def inside(s: int):
-        return None if between is None else (lambda st, parts: _shift(between(st + s, parts), s))
+        return None if between is None else between(s)
 
     first = np.r_[0, np.cumsum(k)[:-1]]
     span = [(first[j], first[j] + k[j] + 1) for j in range(b - a)]
@@ -275,12 +276,6 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
                              clearance)
         stock.cut(tool, tips[s:e], ax[s:e], inside(s))
     release()
-
-
-def _shift(poses: tuple, s: int) -> tuple:
-    """Poses from :func:`_between` with their places counted from sample ``s``."""
-    t, a, at = poses
-    return t, a, at - s
 
 
 def _around(probes: dict, here: np.ndarray, clearance: float) -> tuple[np.ndarray, np.ndarray]:
