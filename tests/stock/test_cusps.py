@@ -166,7 +166,7 @@ def test_simulate_adds_the_controls_own_poses_where_a_cone_tip_would_leave_cusps
     assert shifted[0] == pytest.approx(model.fk(full[1:2] + (full[2] - full[1]) / 2).tip)
 
 
-def test_steps_are_measured_in_blocks_with_the_same_result(monkeypatch):
+def test_steps_are_measured_in_blocks_and_above_a_least_cusp_with_the_same_result(monkeypatch):
     import vmach.stock.cusps as cusps_module
 
     tool = Tool(name="flat10", kind="flat", diameter=10.0, cutting_length=20.0)
@@ -178,3 +178,7 @@ def test_steps_are_measured_in_blocks_with_the_same_result(monkeypatch):
     monkeypatch.setattr(cusps_module, "BLOCK", 3 * len(sd.points))
     assert np.array_equal(step_cusps(sd, fr[:-1], fr[1:], everywhere), whole)
     assert whole.min() > 0
+    # only cusps over `least` are looked up; the rest count as none
+    least = float(np.median(whole))
+    above = step_cusps(sd, fr[:-1], fr[1:], everywhere, least)
+    assert np.array_equal(above, np.where(whole > least, whole, 0.0))

@@ -112,15 +112,16 @@ def cusp_height(spacing: np.ndarray, kappa: np.ndarray) -> np.ndarray:
     return np.where(kappa > 0, sag, 0.0)
 
 
-def step_cusps(sd: Side, frames_a: np.ndarray, frames_b: np.ndarray, holds) -> np.ndarray:
+def step_cusps(sd: Side, frames_a: np.ndarray, frames_b: np.ndarray, holds, least: float = 0.0) -> np.ndarray:
     """(s,) mm: the largest cusp each step leaves between its two placed poses (frames
     (s, 3, 4) each, tool to work), over the side's sample points that may lie in the
-    material at either end (``holds``: points (..., 3) -> bool, a superset of the stock)."""
+    material at either end (``holds``: points (m, 3) -> (m,) bool, a superset of the stock).
+    Cusps of ``least`` or less count as 0: only points over it are looked up."""
     if len(sd.points) == 0 or len(frames_a) == 0:
         return np.zeros(len(frames_a))
     if len(frames_a) * len(sd.points) > BLOCK:
         k = max(1, BLOCK // len(sd.points))
-        return np.concatenate([step_cusps(sd, frames_a[i : i + k], frames_b[i : i + k], holds)
+        return np.concatenate([step_cusps(sd, frames_a[i : i + k], frames_b[i : i + k], holds, least)
                                for i in range(0, len(frames_a), k)])
     rot, t = frames_a[:, :, :3], frames_a[:, :, 3]
     rel = np.matmul(rot.transpose(0, 2, 1), frames_b[:, :, :3])          # b in a's frame
@@ -136,9 +137,13 @@ def step_cusps(sd: Side, frames_a: np.ndarray, frames_b: np.ndarray, holds) -> n
     across = np.abs(np.einsum("spi,pi->sp", d, sd.around)) / math.cos(math.pi / AROUND)
     down = np.abs(np.einsum("spi,pi->sp", d, sd.along))
     c = np.maximum(cusp_height(across, sd.across[None, :] + kw), cusp_height(down, sd.down[None, :] + kw))
-    pa = np.matmul(sd.points, rot.transpose(0, 2, 1)) + t[:, None, :]
-    c = np.where(holds(pa) | holds(pa + np.matmul(d, rot.transpose(0, 2, 1))), c, 0.0)
-    return c.max(axis=1)
+    step, point = np.nonzero(c > least)
+    out = np.zeros(len(frames_a))
+    if len(step):
+        pa = np.einsum("kij,kj->ki", rot[step], sd.points[point]) + t[step]
+        pb = pa + np.einsum("kij,kj->ki", rot[step], d[step, point])
+        np.maximum.at(out, step, np.where(holds(pa) | holds(pb), c[step, point], 0.0))
+    return out
 
 
 def substeps(cusps: np.ndarray, most: float = tol.sweep_cusp) -> np.ndarray:

@@ -333,7 +333,7 @@ class Stock:
         sd = cusps.side(tool)
         if len(idx) == 0 or len(sd.points) == 0:
             return none
-        parts = cusps.substeps(cusps.step_cusps(sd, fr[idx], fr[idx + 1], self._holds))
+        parts = cusps.substeps(cusps.step_cusps(sd, fr[idx], fr[idx + 1], self._holds, tol.sweep_cusp))
         need = parts > 1
         if not need.any():
             return none
