@@ -240,13 +240,12 @@ class Stock:
             n += len(cutters)
         return n
 
-    def cutters(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None):
+    def cutters(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray):
         """The solids a path sweeps (placed pieces and translation hulls, trimmed to
-        :meth:`trim_box`) and their boxes (c, 2, 3), without queueing them (``between``: as
-        for :meth:`cut`)."""
+        :meth:`trim_box`) and their boxes (c, 2, 3), without queueing them."""
         cutters: list[engine.Solid] = []
         boxes: list[np.ndarray] = []
-        for ts, jobs in self._sweep(tool, tips, axes, between):
+        for ts, jobs in self._sweep(tool, tips, axes):
             t0 = time.perf_counter()
             c, b = self._make(ts, jobs)
             self.stats.sweep_seconds += time.perf_counter() - t0
@@ -323,12 +322,12 @@ class Stock:
         poses are — and their places along the path (e,) float (step + fraction)."""
         none = np.zeros((0, 3, 4)), np.zeros(0)
         steps = np.asarray(rotary, bool).copy()
-        for a, b in fan_runs:
-            steps[a:b] = False
+        for first, last in fan_runs:
+            steps[first:last] = False
         # steps whose tool may reach the stock's bounds at all
-        b = self.bounds
+        lo, hi = self.bounds
         reach = ts.length + ts.radius
-        near = np.all((tips >= b[0] - reach) & (tips <= b[1] + reach), axis=1)
+        near = np.all((tips >= lo - reach) & (tips <= hi + reach), axis=1)
         idx = np.nonzero(steps & (near[:-1] | near[1:]))[0]
         sd = cusps.side(tool)
         if len(idx) == 0 or len(sd.points) == 0:
@@ -337,8 +336,8 @@ class Stock:
         need = parts > 1
         if not need.any():
             return none
-        t, a, at = between(idx[need], parts[need])
-        unit = np.asarray(a, dtype=float) / np.linalg.norm(a, axis=1, keepdims=True)
+        t, ax, at = between(idx[need], parts[need])
+        unit = np.asarray(ax, dtype=float) / np.linalg.norm(ax, axis=1, keepdims=True)
         travel = np.repeat(tips[idx[need] + 1] - tips[idx[need]], parts[need] - 1, axis=0)
         self.stats.cusp_poses += len(t)
         return spun(frames(t, unit), across(unit, travel), ts.segments), np.asarray(at, dtype=float)
