@@ -16,7 +16,8 @@ import pytest
 
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
-from vmach.stock.fan import EPS, plan_fans, prism
+from vmach.stock import stock as stock_module
+from vmach.stock.fan import EPS, Prism, covered, plan_fans, prism
 from vmach.stock.sweep import scallop_bound
 from vmach.tol import tol
 from vmach.tooling import Tool, tool_solid
@@ -358,3 +359,71 @@ def test_fans_keep_the_foot_a_face_rim_leaves(library, monkeypatch, y0):
     forced = cut(1)
     assert forced.stats.fans > 0
     assert (r_dense - flank(forced)).max() > 0.5 * (foot - 26.0)   # forced fans gouge the foot
+
+
+@pytest.fixture(scope="module")
+def helix_turns(library):
+    """The D25 on 3.2 turns of the finishing helix (C +1.713 deg and Z -0.01 mm per pose,
+    X = 26) on a round: fans as made (bridges that the path's other turns cut anyway do not
+    count against the bound), and with every bridge counted; and the true floor the side cuts
+    over the whole motion (the last turn's)."""
+    tool = library.lookup("GLOD D25")
+    h, step, pitch = 26.0, 1.713, 0.01
+    c = np.arange(0.0, 1150.0, step)
+    z = -5.0 - pitch * np.arange(len(c))
+    tips, axes = turnmill(h, 0.0, z, c)
+    phis = np.radians(np.linspace(5, 355, 300))
+    rs = np.linspace(h + 0.5, 29.5, 5)
+    out = {"tool": tool, "true": true_floor(phis, rs, h, tool.radius, c, z)}
+    for name in ("fans", "alone"):
+        with pytest.MonkeyPatch.context() as mp:
+            if name == "alone":
+                mp.setattr(stock_module, "covered", lambda grid, need, *a: np.zeros(need.shape, bool))
+            stock = Stock.from_spec("cylinder:d=60,l=60", chord=FINE)
+            stock.cut(tool, tips, axes)
+            out[name] = (stock, floor_hits(stock.solid, phis, rs))
+    return out
+
+
+def test_bridges_the_other_turns_cut_anyway_let_fans_grow(helix_turns):
+    """A helix's fans bridge the floor their side sweeps where the next turn, 2.1 mm lower,
+    cuts it anyway: there the bridge does not count, the fans grow longer, and the part's floor
+    — the last turn's, whose bridges count — stays within the bound of the true floor."""
+    dev = tool_solid(helix_turns["tool"], FINE).deviation
+    fans, hits = helix_turns["fans"]
+    alone, alone_hits = helix_turns["alone"]
+    assert fans.stats.fan_covered_mm > 2 * tol.fan_overcut          # bridged more, where covered
+    assert 0 < fans.stats.fan_overcut_mm <= tol.fan_overcut
+    assert alone.stats.fan_covered_mm == 0.0
+    assert fans.stats.fans < 0.8 * alone.stats.fans                  # longer fans
+    over = helix_turns["true"] - hits                                # > 0: floor cut too deep
+    assert np.nanmax(over) <= fans.stats.fan_overcut_mm + dev + 1e-6
+    assert np.nanmax(np.abs(hits - alone_hits)) <= tol.fan_overcut + 2 * dev
+
+
+def test_a_sample_is_covered_only_when_every_patch_around_it_lies_in_one_pose():
+    """covered(): a 3 × 2 × 4 grid of samples on the plane z = 0, a tool (radius 5, length 10)
+    standing on it along +x: the samples within its cylinder — with what lies 0.1 mm above
+    them — are covered; a sample whose patches reach out of the cylinder is not."""
+    tool = Prism(radius=5.0, length=10.0, ring=np.column_stack([
+        5 * np.cos(np.linspace(0, 2 * np.pi, 64, endpoint=False)),
+        5 * np.sin(np.linspace(0, 2 * np.pi, 64, endpoint=False)), np.zeros(64)]))
+    x = np.array([1.0, 3.0, 5.0, 7.0])                         # along the lines
+    y = np.array([[0.0, 1.0, 2.0], [2.0, 3.0, 4.0]]).T         # across (3, 2): two steps
+    grid = np.stack(np.broadcast_arrays(x[None, None, :], y[:, :, None], 0.0), axis=-1)  # (3, 2, 4, 3)
+    need = np.ones(grid.shape[:3], bool)
+    up = np.array([0.0, 0.0, 1.0])
+    tips, axes = np.array([[0.0, 1.5, 0.0]]), np.array([[1.0, 0.0, 0.0]])
+    inner = 5.0 * np.cos(np.pi / 64)
+    got = covered(grid, need, 0.1, up, tips, axes, tool)
+    assert got.all()                                            # all within 2.5 + 0.1 of the axis
+    # the tool moved so that the second step's far samples (y = 4) lie outside
+    tips2 = np.array([[0.0, 4.0 - inner - 0.05, 0.0]])
+    got = covered(grid, need, 0.1, up, tips2, axes, tool)
+    assert not got[1:, 1].any()                                 # y = 3, 4: a patch reaches y = 4
+    assert got[0, 1].all() and got[:, 0].all()                  # y = 2 and step 1 lie within
+    # the tool ends before the last samples (x = 7): those and their neighbours are out
+    got = covered(grid, need, 0.1, up, np.array([[-4.0, 1.5, 0.0]]), axes, tool)
+    assert not got[..., 2:].any() and got[..., :2].all()
+    # only what is asked for is answered
+    assert not covered(grid, np.zeros_like(need), 0.1, up, tips, axes, tool).any()

@@ -25,7 +25,12 @@ runs, so every made fan is *measured*: :func:`side_samples` samples that ruled s
 the blank, :func:`bridge` takes the largest distance from it to the hull's boundary along ±ω
 (10 % larger for what lies between samples), and :class:`vmach.stock.Stock` shortens a fan
 until that is within ``tol.fan_overcut``. This is the only place vmach may remove more than
-the true sweep, and by no more than that.
+the true sweep, and by no more than that — except where the path's own motion cuts the
+bridged place anyway: a finishing helix passes every place again one turn lower (and higher),
+the tool's disc at full width there, so the bridge of every turn but the last (first) lies in
+the next (previous) turn's tool. :func:`covered` tells which samples' surroundings, with the
+bridge above them, lie inside the cylinder inscribed in one pose of the path; those do not
+count, and the stock in the end is the one the true motion leaves (to the same bound).
 
 **When it applies** (checked per run, else the poses are placed as before):
 
@@ -379,15 +384,17 @@ def side_samples(lines: SideLines, i: int, j: int) -> list[tuple[np.ndarray, np.
     The side's extreme lines of consecutive poses span a ruled surface — the floor or ceiling
     the side cuts. The lines run from the face to where the cutter ends (its trim box); the
     surface is sampled on the part of the lines inside the blank (overcut elsewhere removes
-    nothing), at 6 points along each line, denser toward where it leaves the blank (the hull
-    bridges most far out), and 3 across each step. The true sweep between two poses lies
+    nothing), at 7 points along each line, denser toward where it leaves the blank (the hull
+    bridges most far out) and with one close to the face (the bridge grows from nothing there;
+    see :func:`covered`), and 3 across each step. The true sweep between two poses lies
     beyond the interpolated surface (the side is curved across), so the samples are at or
     inside it.
 
     Returns, for each of the two sides that moves along omega: (line end points (2m, 3),
-    samples (k, 3), outward direction (3,) — away from the tool)."""
+    samples (3, m-1, 7, 3) — across each step, step, along the lines —, outward direction
+    (3,) — away from the tool)."""
     out = []
-    s = np.array([0.0, 0.25, 0.5, 0.75, 0.9, 1.0])
+    s = np.array([0.0, 0.02, 0.25, 0.5, 0.75, 0.9, 1.0])
     t = np.array([0.0, 0.5, 1.0])[:, None, None, None]
     ax = lines.axes[i : j + 1]
     for side, sign in enumerate((1.0, -1.0)):
@@ -396,8 +403,7 @@ def side_samples(lines: SideLines, i: int, j: int) -> list[tuple[np.ndarray, np.
         if np.ptp(ends @ lines.omega) <= 1e-9:
             continue        # a planar floor: the hull is exact there
         along = p[:, None, :] + ax[:, None, :] * (lines.inside[side, i : j + 1, None] * s)[..., None]
-        surf = (along[:-1][None] * (1 - t) + along[1:][None] * t).reshape(-1, 3)
-        out.append((ends, surf, sign * lines.omega))
+        out.append((ends, along[:-1][None] * (1 - t) + along[1:][None] * t, sign * lines.omega))
     return out
 
 
@@ -405,13 +411,85 @@ def bridge(planes: np.ndarray, samples: np.ndarray, direction: np.ndarray) -> fl
     """How far a convex solid {x : n·x <= c} (planes (f, 4)) reaches beyond the samples
     (k, 3) along ``direction``, mm: the largest distance from a sample to the solid's boundary
     along it (0 when no sample is inside), times SAMPLING_MARGIN."""
+    return float(reaches(planes, samples, direction).max(initial=0.0))
+
+
+def reaches(planes: np.ndarray, samples: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """(k,) mm: for each sample (k, 3), how far the convex solid {x : n·x <= c} (planes
+    (f, 4)) reaches beyond it along ``direction`` (0 when the sample is not inside), times
+    SAMPLING_MARGIN."""
     toward = planes[:, :3] @ direction
     slack = planes[:, 3][None, :] - samples @ planes[:, :3].T
     with np.errstate(divide="ignore", invalid="ignore"):
         lam = np.where(toward[None, :] > 1e-12, slack / toward[None, :], np.inf)
     reach = lam.min(axis=1)
     inside = (slack >= -1e-9).all(axis=1) & np.isfinite(reach)
-    return SAMPLING_MARGIN * float(reach[inside].max(initial=0.0))
+    return SAMPLING_MARGIN * np.where(inside, reach, 0.0)
+
+
+def covered(grid: np.ndarray, need: np.ndarray, reach: float, direction: np.ndarray, tips: np.ndarray,
+            axes: np.ndarray, tool: Prism) -> np.ndarray:
+    """(a, m, s) bool: the samples ``grid`` (a, m, s, 3) of a sampled surface (:func:`side_samples`)
+    around which whatever lies within ``reach`` mm of the surface along ``direction`` (3,) is
+    cut anyway by the tool at one of the poses ``tips``, ``axes`` (c, 3; unit axes) — asked
+    only for the samples ``need`` (a, m, s) bool.
+
+    The surface between samples is made of patches (a bilinear patch lies in the hull of its
+    four corners, so what lies within ``reach`` of it along ``direction`` lies in the hull of
+    those corners and the same moved by ``reach``). A patch is covered when those eight
+    points lie within the cylinder inscribed in the prism's polygon at one and the same pose —
+    so inside the true tool and its polygon both, at a place the path's motion takes. A sample
+    is covered when every patch around it is. What a fan takes there beyond its own run's
+    sweep is taken by those poses anyway, by the true tool and by the simulated one alike."""
+    out = np.zeros(need.shape, bool)
+    if not need.any() or len(tips) == 0 or min(need.shape[0], need.shape[2]) < 2:
+        return out
+    # patches (a-1, m, s-1) around a needed sample
+    want = need[:-1, :, :-1] | need[1:, :, :-1] | need[:-1, :, 1:] | need[1:, :, 1:]
+    idx = np.nonzero(want)
+    a, k, b = idx
+    corners = np.stack([grid[a, k, b], grid[a + 1, k, b], grid[a, k, b + 1], grid[a + 1, k, b + 1]], axis=1)
+    corners = np.concatenate([corners, corners + reach * np.asarray(direction, dtype=float)], axis=1)
+    inner = tool.radius * np.cos(np.pi / len(tool.ring))
+    # a pose holds a patch when its eight points are inside: surely when the patch's bounding
+    # ball is, possibly when the ball meets the cylinder (tested point by point)
+    flat = corners.reshape(-1, 3)
+    centre = 0.5 * (flat.min(axis=0) + flat.max(axis=0))
+    rho = float(np.linalg.norm(flat - centre, axis=1).max())
+    near = _ball_in_cylinder(centre[None], np.array([rho]), tips, axes, tool.length, inner)[1][0]
+    tp, ax = tips[near], axes[near]
+    patch = np.zeros(want.shape, bool)
+    if len(tp):
+        mid = corners.mean(axis=1)
+        sure, maybe = _ball_in_cylinder(mid, np.linalg.norm(corners - mid[:, None], axis=2).max(axis=1),
+                                        tp, ax, tool.length, inner)
+        ok = sure.any(axis=1)
+        pi_, pj = np.nonzero(maybe & ~ok[:, None])
+        d = corners[pi_] - tp[pj][:, None]                                  # (q, 8, 3)
+        z = np.einsum("qki,qi->qk", d, ax[pj])
+        radial = np.linalg.norm(d - z[..., None] * ax[pj][:, None], axis=2)
+        ok[pi_[((z >= 0.0) & (z <= tool.length) & (radial <= inner)).all(axis=1)]] = True
+        patch[idx] = ok
+    # a sample is covered when every patch around it is (those off the grid do not count)
+    full = np.ones((need.shape[0] + 1, need.shape[1], need.shape[2] + 1), bool)
+    full[1:-1, :, 1:-1] = patch
+    around = full[:-1, :, :-1] & full[1:, :, :-1] & full[:-1, :, 1:] & full[1:, :, 1:]
+    return around & need
+
+
+def _ball_in_cylinder(centres: np.ndarray, radii: np.ndarray, tips: np.ndarray, axes: np.ndarray,
+                      length: float, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """(inside, meets), each (k, c) bool: whether the ball (centres (k, 3), radii (k,)) lies
+    inside, or may meet, the cylinder of the pose (tips, unit axes (c, 3); ``length``,
+    ``radius``, from the tip along the axis)."""
+    z = centres @ axes.T - np.einsum("ci,ci->c", tips, axes)[None]          # (k, c)
+    cc = np.einsum("ki,ki->k", centres, centres)[:, None]
+    tt = np.einsum("ci,ci->c", tips, tips)[None]
+    radial2 = np.maximum(cc - 2.0 * centres @ tips.T + tt - z * z, 0.0)    # |centre - tip|² - z²
+    r = radii[:, None]
+    inside = (z >= r) & (z <= length - r) & (radial2 <= np.maximum(radius - r, 0.0) ** 2) & (radius >= r)
+    meets = (z >= -r) & (z <= length + r) & (radial2 <= (radius + r) ** 2)
+    return inside, meets
 
 
 def hull_planes(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:

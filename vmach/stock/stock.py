@@ -30,11 +30,12 @@ from vmach.stock.clip import Shape, clip, shape, sweep_shape
 from vmach.stock.fan import (
     NO_FANS,
     back_clear,
-    bridge,
+    covered,
     hull_planes,
     material_points,
     plan_fans,
     prism,
+    reaches,
     side_lines,
     side_samples,
 )
@@ -55,7 +56,9 @@ class CutStats:
     cutters : cutters made; culled : cutters that miss the stock; covered : placed poses left
     out because a translation hull contains them; fans : fan cutters (:mod:`vmach.stock.fan`)
     and fan_poses : the poses they cover; fan_overcut_mm : the largest bridge of a fan's hull
-    over the floor its tool's side sweeps, measured (mm); cusp_poses : placed poses added
+    over the floor its tool's side sweeps, measured (mm), where no other pose of the path cuts
+    anyway; fan_covered_mm : the largest such bridge where other poses of the path do (a
+    helix's other turns; :func:`vmach.stock.fan.covered`); cusp_poses : placed poses added
     between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`);
     sweep_seconds : making cutters; boolean_seconds : batch booleans.
     """
@@ -68,6 +71,7 @@ class CutStats:
     fans: int = 0
     fan_poses: int = 0
     fan_overcut_mm: float = 0.0
+    fan_covered_mm: float = 0.0
     cusp_poses: int = 0
     batches: int = 0
     sweep_seconds: float = 0.0
@@ -289,6 +293,7 @@ class Stock:
         if len(fans.runs):
             poses = _outside_runs(poses, fans.runs)
             runs = runs[~_within(runs, fans.runs)]
+        path = (tips, axes / np.linalg.norm(axes, axis=1, keepdims=True))   # what else the path cuts
         key = poses.astype(float)                 # where each placed pose lies along the path
         if between is not None and self.trim and isinstance(tool, Tool):
             more, at = self._cusp_poses(tool, ts, tips, fr, rotary, fans.runs, between)
@@ -304,7 +309,7 @@ class Stock:
             part = order[c0 : c0 + self.CHUNK]
             chunk_poses = poses[which[part][kind[part] == 0]]
             ends = [run_extremes(tips, r) for r in runs[which[part][kind[part] == 1]]]
-            fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f], fr[a : b + 1])
+            fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f], fr[a : b + 1], path)
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
             run_fr = _run_frames(tips, axes, ends, ts.segments)   # shared by every piece
             jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [])
@@ -396,11 +401,14 @@ class Stock:
         return self._slabs.boxes(zlo, zhi, outer)
 
     def _fan_cutters(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, omega: np.ndarray,
-                     fr: np.ndarray, box: np.ndarray, trimmed: list) -> list[tuple[engine.Solid, np.ndarray]]:
+                     fr: np.ndarray, box: np.ndarray, trimmed: list,
+                     path: tuple[np.ndarray, np.ndarray] | None = None
+                     ) -> list[tuple[engine.Solid, np.ndarray]]:
         """The cutters of one candidate fan run (:mod:`vmach.stock.fan`): [(solid, box (2, 3)),
         ...]. ``fr`` (n, 3, 4): its poses' frames, as placed poses have them (turned so that the
         polygon is exact to both sides of the travel, :func:`vmach.tooling.solid.spun`);
-        ``box`` (2, 3): its trim box; ``trimmed``: its poses clipped to it.
+        ``box`` (2, 3): its trim box; ``trimmed``: its poses clipped to it; ``path``: the tips
+        and unit axes (m, 3) of the whole path the run belongs to.
 
         A fan's H is the hull of its poses each trimmed to the box: inside the box it holds
         every trimmed pose (so the fan removes at least what they would) and lies in the hull
@@ -408,7 +416,9 @@ class Stock:
         tool's side sweeps (:func:`vmach.stock.fan.bridge`) — and a fan that bridges more than
         ``fan_overcut`` is made again shorter, in proportion (the bridge grows with the twist
         a run takes along its axis); the next fan starts at the length the last one's bridge
-        suggests. Two steps that still bridge too much are cut as placed poses."""
+        suggests. Where the path's own poses cut the bridged place anyway (a helix's next or
+        previous turn; :func:`vmach.stock.fan.covered`) the bridge does not count: the final
+        stock is the same. Two steps that still bridge too much are cut as placed poses."""
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
         reach = np.broadcast_to(box, (len(tips), 2, 3))
         pr = self._prism(ts)
@@ -417,17 +427,28 @@ class Stock:
         tol_ = self.fan_overcut
 
         def measure(i: int, j: int):
-            """(hull, bridge, points) of the fan i..j; hull None when it misses the box."""
+            """(hull, bridge, points, covered bridge) of the fan i..j; hull None when it
+            misses the box. The bridge counts where no other pose of the path cuts anyway."""
             kept = [q for q in trimmed[i : j + 1] if q is not None]
             if not kept:
-                return None, 0.0, None
+                return None, 0.0, None, 0.0
             q = np.concatenate(kept)
             hull = engine.hull(q)
             samples = side_samples(lines, i, j)
             if not samples:
-                return hull, 0.0, q
+                return hull, 0.0, q, 0.0
             planes = hull_planes(*engine.to_mesh(hull, double=True))
-            return hull, max(bridge(planes, surf, d) for _, surf, d in samples), q
+            gap = hidden = 0.0
+            for _, grid, d in samples:
+                r = reaches(planes, grid.reshape(-1, 3), d).reshape(grid.shape[:3])
+                over = r > tol_
+                if over.any() and path is not None:
+                    # what the rest of the path cuts anyway (a helix's next and previous turns)
+                    ok = covered(grid, over, float(r.max()), d, *path, pr)
+                    hidden = max(hidden, float(r[ok].max(initial=0.0)))
+                    r[ok] = 0.0
+                gap = max(gap, float(r.max(initial=0.0)))
+            return hull, gap, q, hidden
 
         def end(i: int, j: int, shrink: bool = False) -> int:
             """j within i+2 .. n-1, leaving no run of one step over (rounding down when
@@ -444,19 +465,19 @@ class Stock:
         i = 0
         while i < n - 1:
             j = end(i, i + self._fan_guess)
-            hull, gap, q = measure(i, j)
+            hull, gap, q, hidden = measure(i, j)
             while gap > tol_ and j - i > 2:                 # too twisted: shorter, in proportion
                 k = end(i, min(j - 1, scaled(i, j, gap, 1.0)), shrink=True)
                 if k >= j:
                     break
                 j = k
-                hull, gap, q = measure(i, j)
+                hull, gap, q, hidden = measure(i, j)
             while gap <= 0.6 * tol_ and j < n - 1:          # room to spare: one longer try
                 k = end(i, max(j + 1, scaled(i, j, gap, 2.0)))
-                h2, g2, q2 = measure(i, k)
+                h2, g2, q2, c2 = measure(i, k)
                 if g2 > tol_:
                     break
-                j, hull, gap, q = k, h2, g2, q2
+                j, hull, gap, q, hidden = k, h2, g2, q2, c2
             if hull is None:
                 self.stats.culled += 1
             elif gap > tol_:                # two steps still too twisted: placed poses, as made,
@@ -474,6 +495,7 @@ class Stock:
                 self.stats.fans += 1
                 self.stats.fan_poses += j - i + 1
                 self.stats.fan_overcut_mm = max(self.stats.fan_overcut_mm, gap)
+                self.stats.fan_covered_mm = max(self.stats.fan_covered_mm, hidden)
                 self._fan_guess = max(2, scaled(i, j, gap, 1.5) - i)
             i = j
         return out
@@ -493,16 +515,16 @@ class Stock:
         if not fan_jobs:
             return []
         out = []
-        fan_fr = [f for _, _, _, f in fan_jobs]
+        fan_fr = [job[3] for job in fan_jobs]
         z = [place(ts.pieces[0], f)[:, :, 2] for f in fan_fr]
         fan_box = self._boxes(np.array([v.min() for v in z]), np.array([v.max() for v in z]))
         sizes = [len(f) for f in fan_fr]
         boxes = np.repeat(fan_box, sizes, axis=0)
         trimmed, _ = clip(self._tool_shapes(ts)[0], np.concatenate(fan_fr), boxes[:, 0], boxes[:, 1])
         starts = np.cumsum([0, *sizes])
-        for f, (tips, axes, omega, _) in enumerate(fan_jobs):
+        for f, (tips, axes, omega, _, path) in enumerate(fan_jobs):
             out += self._fan_cutters(ts, tips, axes, omega, fan_fr[f], fan_box[f],
-                                     trimmed[starts[f] : starts[f + 1]])
+                                     trimmed[starts[f] : starts[f + 1]], path)
         return out
 
     def _make_placed(self, ts: ToolSolid, k: int, fr: np.ndarray) -> list[tuple[engine.Solid, np.ndarray]]:
