@@ -49,6 +49,13 @@ def floor_hits(solid, phis, rs, top=10.0):
     return out
 
 
+def inward(solid, phi, z, start=40.0):
+    """How far (mm) a ray from radius ``start`` at polar angle phi and height z travels toward
+    the axis before it meets the solid (manifold3d reports the fraction of the segment)."""
+    o, e = (start * np.cos(phi), start * np.sin(phi), z), (0.0, 0.0, z)
+    return start * solid.ray_cast(o, e)[0].distance
+
+
 def true_floor(phis, rs, h, radius, c_deg, z_tip):
     """The floor a round end mill's side cuts when its axis sweeps continuously through the
     poses (C1 in degrees, tip Z), radial at X = h: the lowest point of the tool over
@@ -132,9 +139,7 @@ def test_the_flank_is_the_tangent_polygon_of_the_sampled_faces(helix_cut):
     placed, _ = helix_cut["placed"]
     for z in (-3.0, -1.0):
         for phi in np.radians(np.linspace(10, 290, 50)):
-            o, e = (40 * np.cos(phi), 40 * np.sin(phi), z), (0.0, 0.0, z)
-            a, b = fans.solid.ray_cast(o, e)[0].distance, placed.solid.ray_cast(o, e)[0].distance
-            assert a == pytest.approx(b, abs=1e-5)
+            assert inward(fans.solid, phi, z) == pytest.approx(inward(placed.solid, phi, z), abs=1e-5)
 
 
 def _plan(tips, axes, tool, **kw):
@@ -220,9 +225,8 @@ def test_random_rotary_runs_stay_within_the_bound_against_dense_placed_poses(lib
     assert np.nanmax(lo_d - lo_f) <= fans.stats.fan_overcut_mm + 2 * dev + 1e-6
     for z in (-3.0, -1.0):
         for phi in phis[::5]:
-            o, e = (40 * np.cos(phi), 40 * np.sin(phi), z), (0.0, 0.0, z)
-            a, b = fans.solid.ray_cast(o, e)[0].distance, cuts["dense"].solid.ray_cast(o, e)[0].distance
-            assert a <= b + 1e-5            # the fans' flank is not deeper than the dense cut's
+            # the fans' flank is not deeper than the dense cut's
+            assert inward(fans.solid, phi, z) <= inward(cuts["dense"].solid, phi, z) + 1e-5
 
 
 def _zigzag(x, y, z, c, sub):
@@ -288,9 +292,8 @@ def test_random_zigzag_runs_stay_within_the_bound_against_a_dense_cut(library, s
     assert np.nanmax(lo_d - lo_f) <= fans.stats.fan_overcut_mm + 2 * dev + 1e-6
     for zz in (-25.0, -20.0, -15.0):
         for phi in phis[::4]:
-            o, e = (40 * np.cos(phi), 40 * np.sin(phi), zz), (0.0, 0.0, zz)
-            a, b = fans.solid.ray_cast(o, e)[0].distance, dense.solid.ray_cast(o, e)[0].distance
-            assert a <= b + 1e-5            # the fans' flank is not deeper than the dense cut's
+            # the fans' flank is not deeper than the dense cut's
+            assert inward(fans.solid, phi, zz) <= inward(dense.solid, phi, zz) + 1e-5
     # the fans hold the poses the plain cut places and the slides' hulls: they remove at
     # least as much (up to the eps by which M is moved out, over at most every pose's face)
     left = engine.volume(engine.subtract(fans.solid, [plain.solid]))
@@ -359,6 +362,31 @@ def test_fans_keep_the_foot_a_face_rim_leaves(library, monkeypatch, y0):
     forced = cut(1)
     assert forced.stats.fans > 0
     assert (r_dense - flank(forced)).max() > 0.5 * (foot - 26.0)   # forced fans gouge the foot
+
+
+def test_a_rim_whose_foot_would_lie_beyond_the_stock_is_fanned(library, monkeypatch):
+    """The same D25 3 mm off the contact point, on a shaft 20 mm long with the tool centre
+    at z = -10: both rims (z = +2.5 and -22.5) lie beyond the stock, so the feet they leave
+    are in the air and the steps are fanned (without the stock's bounds they are not). The
+    flank is the dense cut's tangent polygon at every height."""
+    tool = library.lookup("GLOD D25")
+
+    def cut(sub, **kw):
+        c = np.arange(0.0, 60.0 * sub + 1e-9, 1.0) * 1.713 / sub
+        stock = Stock.from_spec("cylinder:d=60,l=20", chord=0.002, **kw)
+        stock.cut(tool, *turnmill(26.0, 3.0, -10.0, c))
+        return stock
+
+    fans, dense = cut(1), cut(8, fans=False)
+    assert fans.stats.fans > 0
+    bound = float(scallop_bound(26.0, 1.713))
+    for z in (-0.5, -10.0, -19.5):
+        for q in np.radians(np.linspace(20.0, 80.0, 13)):
+            gap = inward(dense.solid, q, z) - inward(fans.solid, q, z)   # material the fans leave
+            assert -1e-4 <= gap <= bound + 1e-4          # never deeper, within the scallops
+    plan = stock_module.plan_fans
+    monkeypatch.setattr(stock_module, "plan_fans", lambda *a, **k: plan(*a, **{**k, "stock_box": None}))
+    assert cut(1).stats.fans == 0
 
 
 @pytest.fixture(scope="module")

@@ -46,7 +46,8 @@ count, and the stock in the end is the one the true motion leaves (to the same b
 - the whole blank lies behind every pose's back face (:func:`back_clear`: behind, nothing
   like M takes away the notches the hull fills between neighbouring back faces);
 - the face's rim does not leave a foot the hull would take (:func:`rim_standoff`), or the
-  path cuts that place again with the face at full width (another turn of a helix).
+  path cuts that place again with the face at full width (another turn of a helix), or the
+  foot would lie beyond the stock along ω (a helix's first turns above the end face).
 
 A run may hold *slides* between its turns — steps that keep the axis and move the tool
 perpendicular to ω (a facing pass that indexes the workpiece, then moves); poses joined by
@@ -134,7 +135,8 @@ def _exit(p: np.ndarray, d: np.ndarray, planes: np.ndarray, limit: float) -> np.
 
 def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Prism, *,
               max_angle: float = tol.fan_angle, slides: np.ndarray | None = None,
-              clear: np.ndarray | None = None, rim: float = tol.fan_overcut) -> FanPlan:
+              clear: np.ndarray | None = None, rim: float = tol.fan_overcut,
+              stock_box: np.ndarray | None = None) -> FanPlan:
     """Candidate fan runs of a path: maximal stretches of rotary steps — and, where
     ``slides`` (n-1,) bool allows, of steps that keep the axis and move the tool perpendicular
     to the rotation axis in between (a facing pass that indexes the workpiece and moves the
@@ -149,8 +151,9 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     that turn the axis. tool : the prism. clear : (n,) bool — poses whose far end (the
     prism's back face) lies beyond the stock (:func:`back_clear`); only steps between two
     such poses join a run. rim : mm — the most the face chain may lie below the path of the
-    faces' rims (:func:`rim_standoff`). Steps not in a run are left to placed poses and
-    translation hulls.
+    faces' rims (:func:`rim_standoff`), unless the path cuts the rim's band anyway or the
+    band lies beyond ``stock_box`` (2, 3), the stock's bounds. Steps not in a run are left to
+    placed poses and translation hulls.
     """
     tips = np.asarray(tips, dtype=float)
     a = np.asarray(axes, dtype=float)
@@ -186,7 +189,8 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     band = _rim_band(s_fwd, s_back, turn, r)
     near = np.minimum(rim_standoff(tips, a, angle), band) <= rim
     if not near.all():
-        near |= _rims_covered(tips, a, w, turn, band, rim, r, ~near)
+        near |= _rims_covered(tips, a, w, turn, band, rim, r, ~near,
+                              r * np.cos(np.pi / len(tool.ring)), stock_box)
     ok &= near
     slide &= near
     move = tips[1:] - tips[:-1]
@@ -277,8 +281,11 @@ def _turns_around(turn: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.ndarray, band: np.ndarray,
-                  rim: float, radius: float, which: np.ndarray) -> np.ndarray:
-    """(n-1,) bool: of the steps ``which``, those whose rim bands the path cuts anyway.
+                  rim: float, radius: float, which: np.ndarray, inner: float,
+                  box: np.ndarray | None = None) -> np.ndarray:
+    """(n-1,) bool: of the steps ``which``, those whose rim bands the path cuts anyway, or
+    that lie beyond the stock's bounding ``box`` (2, 3) along omega (the tool's inscribed
+    radius ``inner`` from the tip: the least the true rim reaches).
 
     Whatever a fan takes in the band at a face's rim (:func:`rim_standoff`) is taken by the
     true motion too if the path passes the same place again with the face at full width
@@ -316,6 +323,16 @@ def _rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.nd
     upper = np.zeros(n, bool)
     lower[q[cover & (d > 0)]] = True
     upper[q[cover & (d < 0)]] = True
+    if box is not None:
+        # a rim whose whole band lies beyond the stock along omega leaves its foot in the air
+        # (the first turns of a helix that starts above the end face); the true rim is at
+        # least the polygon's inscribed radius out
+        box = np.asarray(box, dtype=float)
+        reach = np.einsum("ij,ij->i", tips, pose_om)
+        top = np.maximum(box[0] * pose_om, box[1] * pose_om).sum(axis=1)
+        bottom = np.minimum(box[0] * pose_om, box[1] * pose_om).sum(axis=1)
+        upper |= reach + inner - pose_band >= top
+        lower |= reach - inner + pose_band <= bottom
     both = lower & upper & np.any(pose_om, axis=1)
     out = np.zeros(n - 1, bool)
     out[steps] = both[steps] & both[steps + 1]

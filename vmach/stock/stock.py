@@ -370,7 +370,7 @@ class Stock:
             self._blank_points = hv
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
         return plan_fans(tips, unit, rotary, pr, slides=slides,
-                         clear=back_clear(tips, unit, pr, self._blank_points))
+                         clear=back_clear(tips, unit, pr, self._blank_points), stock_box=self.bounds)
 
     def _boxes(self, zlo: np.ndarray, zhi: np.ndarray, fresh: bool = False) -> np.ndarray:
         """Trim boxes (k, 2, 3) for cutters spanning Z ranges [zlo, zhi] (k,): the stock's
