@@ -22,7 +22,7 @@ also moves along the rotation axis ω, the lines of the tool's side at its ±ω 
 helicoid-like ruled surface (the floor or ceiling the side cuts), and the hull bridges it —
 the more, the longer the run and the further the lines reach. No closed form held for long
 runs, so every made fan is *measured*: :func:`side_samples` samples that ruled surface inside
-the blank, :func:`bridge` takes the largest distance from it to the hull's boundary along ±ω
+the blank, :func:`reaches` takes the distance from it to the hull's boundary along ±ω
 (10 % larger for what lies between samples), and :class:`vmach.stock.Stock` shortens a fan
 until that is within ``tol.fan_overcut``. This is the only place vmach may remove more than
 the true sweep, and by no more than that — except where the path's own motion cuts the
@@ -422,13 +422,6 @@ def side_samples(lines: SideLines, i: int, j: int) -> list[tuple[np.ndarray, np.
         along = p[:, None, :] + ax[:, None, :] * (lines.inside[side, i : j + 1, None] * s)[..., None]
         out.append((ends, along[:-1][None] * (1 - t) + along[1:][None] * t, sign * lines.omega))
     return out
-
-
-def bridge(planes: np.ndarray, samples: np.ndarray, direction: np.ndarray) -> float:
-    """How far a convex solid {x : n·x <= c} (planes (f, 4)) reaches beyond the samples
-    (k, 3) along ``direction``, mm: the largest distance from a sample to the solid's boundary
-    along it (0 when no sample is inside), times SAMPLING_MARGIN."""
-    return float(reaches(planes, samples, direction).max(initial=0.0))
 
 
 def reaches(planes: np.ndarray, samples: np.ndarray, direction: np.ndarray) -> np.ndarray:

@@ -413,7 +413,7 @@ class Stock:
         A fan's H is the hull of its poses each trimmed to the box: inside the box it holds
         every trimmed pose (so the fan removes at least what they would) and lies in the hull
         of the untrimmed poses. H is measured — how far it bridges the floor or ceiling the
-        tool's side sweeps (:func:`vmach.stock.fan.bridge`) — and a fan that bridges more than
+        tool's side sweeps (:func:`vmach.stock.fan.reaches`) — and a fan that bridges more than
         ``fan_overcut`` is made again shorter, in proportion (the bridge grows with the twist
         a run takes along its axis); the next fan starts at the length the last one's bridge
         suggests. Where the path's own poses cut the bridged place anyway (a helix's next or
