@@ -233,3 +233,22 @@ def test_centroid_is_the_centre_of_mass():
     c = engine.centroid(engine.union([a, b]))
     assert c == pytest.approx((np.array([0.5, 0.5, 0.5]) + 8 * np.array([11.0, -2.0, 6.0])) / 9, abs=1e-12)
     assert engine.centroid(engine.empty()) is None
+
+
+def test_blank_holds_answers_for_a_convex_blank_only(tmp_path):
+    """Stock.blank_holds: points 1e-6 mm or more inside a convex blank (the cylinder's polygon
+    lies within tol.blank_chord of the true circle); a non-convex blank answers nothing, so its
+    callers meet solids instead."""
+    import trimesh
+
+    stock = Stock.from_spec("cylinder:d=60,l=40")
+    pts = np.array([[0, 0, -20], [29.99, 0, -20], [0, 0, -0.001], [30.1, 0, -20], [0, 0, 0], [0, 0, -40.5]])
+    assert stock.blank_holds(pts).tolist() == [True, True, True, False, False, False]
+    ell = trimesh.boolean.union([trimesh.creation.box((20, 20, 10)),                 # an L
+                                 trimesh.creation.box((10, 10, 30)).apply_translation((5, 5, 10))],
+                                engine="manifold")
+    path = tmp_path / "ell.stl"
+    ell.export(path)
+    bent = Stock.from_spec(f"mesh:{path}")
+    assert engine.volume(bent.initial) < engine.volume(engine.hull(engine.to_mesh(bent.initial)[0]))
+    assert not bent.blank_holds(np.array([[0.0, 0.0, 0.0], [5.0, 5.0, 15.0]])).any()

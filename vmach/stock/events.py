@@ -95,12 +95,12 @@ def part_solids(part: Part, tips: np.ndarray, axes: np.ndarray, chord: float = 0
     return out
 
 
-def overlap_volume(solid, parts: list) -> tuple[float, np.ndarray | None]:
+def overlap_volume(solid, parts: list, centre: bool = True) -> tuple[float, np.ndarray | None]:
     """Volume (mm³) of ``solid`` inside the union of ``parts`` and the centre (of mass) of that
-    overlap."""
+    overlap (None when ``centre`` is False: the volume alone is cheaper)."""
     if not parts:
         return 0.0, None
     inter = engine.intersect(solid, engine.union(parts))
     if engine.is_empty(inter):
         return 0.0, None
-    return engine.volume(inter), engine.centroid(inter)
+    return engine.volume(inter), engine.centroid(inter) if centre else None

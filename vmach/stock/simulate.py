@@ -234,9 +234,9 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
         # within the clearance of the stock as it is before the chunk (a superset of the stock
         # during the chunk) can be a near miss
         for j, rc in list(probes.items()):
-            if j[0] == "rapid" and not _meets(stock.initial, rc[0]):
+            if j[0] == "rapid" and not _meets(stock, rc[0]):
                 near[j[1]] = rc
-        probes = {key: v for key, v in probes.items() if _meets(stock.initial, v[0])}
+        probes = {key: v for key, v in probes.items() if _meets(stock, v[0])}
         s, e = span[rows[0]][0], span[rows[-1]][1]
         if probes and not near and held[0] is not None:
             # measured first on the stock without the chunks held back (more material than
@@ -301,19 +301,26 @@ def _reaching(before, probes: dict, clearance: float) -> dict:
     if len(rapids) <= RAPIDS_JUDGED:
         for key in rapids:
             cutters = probes[key][0]
-            if overlap_volume(before, cutters)[0] > tol.removal_volume:
+            if overlap_volume(before, cutters, centre=False)[0] > tol.removal_volume:
                 continue                                   # it cuts
             if clearance > 0 and engine.min_gap(before, engine.union(cutters), clearance) < clearance:
                 continue                                   # it may pass close
             drop.add(key)
     drop |= {key for key in probes if key[0] != "rapid"
-             and sum(overlap_volume(before, [q])[0] for q in probes[key][0]) <= tol.removal_volume}
+             and sum(overlap_volume(before, [q], centre=False)[0] for q in probes[key][0])
+             <= tol.removal_volume}
     return {key: v for key, v in probes.items() if key not in drop}
 
 
-def _meets(solid, probe: list) -> bool:
-    """Does any of the (convex) probe solids overlap ``solid`` at all?"""
-    return any(overlap_volume(solid, [q])[0] > 0.0 for q in probe)
+def _meets(stock: Stock, probe: list) -> bool:
+    """Does any of the (convex) probe solids overlap the stock's blank at all? A vertex inside
+    a convex blank says so at once (:meth:`Stock.blank_holds`); else the solids are met."""
+    for q in probe:
+        if stock.blank_holds(engine.to_mesh(q, double=True)[0]).any():
+            return True
+        if overlap_volume(stock.initial, [q], centre=False)[0] > 0.0:
+            return True
+    return False
 
 
 def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, rapid, parts: list,

@@ -157,6 +157,7 @@ class Stock:
         self.fan_overcut = fan_overcut
         self._blank_planes: np.ndarray | None = None
         self._blank_points: np.ndarray | None = None   # (v, 3) the blank's hull vertices
+        self._blank_convex = False
         self._slabs: Slabs | None = None
         self._fan_guess = 8         # poses of the last fan that fitted
         self._slabs_at = -1         # batches done when the slabs were taken
@@ -355,6 +356,28 @@ class Stock:
         b = self.bounds
         return np.all((points >= b[0]) & (points <= b[1]), axis=-1)
 
+    def _blank_hull(self) -> None:
+        """The blank's convex hull: its face planes and vertices, and whether the blank is
+        convex (its volume is its hull's, to 1e-9)."""
+        if self._blank_planes is None:
+            v, _ = engine.to_mesh(self.initial, double=True)
+            hv, hf = engine.hull_mesh(v)
+            self._blank_planes = shape(hv, hf).planes
+            self._blank_points = hv
+            hull = engine.volume(engine.hull(hv))
+            self._blank_convex = abs(hull - engine.volume(self.initial)) <= 1e-9 * max(hull, 1.0)
+
+    def blank_holds(self, points: np.ndarray) -> np.ndarray:
+        """(k,) bool: points (k, 3) that lie inside the blank, 1e-6 mm or more from its
+        boundary — answered for a convex blank (a cylinder, a box); all False for another, whose
+        callers must meet solids instead."""
+        self._blank_hull()
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        if not self._blank_convex:
+            return np.zeros(len(points), bool)
+        planes = self._blank_planes
+        return np.all(points @ planes[:, :3].T - planes[:, 3] < -1e-6, axis=1)
+
     def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray,
               slides: np.ndarray):
         """Candidate fan runs over the ``rotary`` steps (n-1,) bool of a path and the
@@ -363,11 +386,7 @@ class Stock:
         pr = self._prism(ts) if self.fans else None
         if pr is None:
             return NO_FANS
-        if self._blank_planes is None:
-            v, _ = engine.to_mesh(self.initial, double=True)
-            hv, hf = engine.hull_mesh(v)
-            self._blank_planes = shape(hv, hf).planes
-            self._blank_points = hv
+        self._blank_hull()
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
         return plan_fans(tips, unit, rotary, pr, slides=slides,
                          clear=back_clear(tips, unit, pr, self._blank_points), stock_box=self.bounds)
