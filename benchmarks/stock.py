@@ -119,7 +119,7 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             out.update(cutters=stock.stats.cutters, sweep=stock.stats.sweep_seconds + sim.kinematics_seconds,
                        boolean=stock.stats.boolean_seconds, bound=sim.bound_mm,
                        fans=stock.stats.fans, fan_overcut=stock.stats.fan_overcut_mm,
-                       cusp_poses=stock.stats.cusp_poses,
+                       fan_covered=stock.stats.fan_covered_mm, cusp_poses=stock.stats.cusp_poses,
                        findings=len(sim.findings), triangles=engine.num_triangles(part))
             out["total"] = time.perf_counter() - t_all
             out["dev"] = _deviation(stock.section)
@@ -150,7 +150,7 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             engine.check(stock.solid)
             out.update(cutters=stock.stats.cutters, sweep=stock.stats.sweep_seconds,
                        boolean=stock.stats.boolean_seconds, fans=stock.stats.fans,
-                       fan_overcut=stock.stats.fan_overcut_mm)
+                       fan_overcut=stock.stats.fan_overcut_mm, fan_covered=stock.stats.fan_covered_mm)
         else:
             t0 = time.perf_counter()
             hulls = _naive_hulls(tool, tips[:-1], axes[:-1], tips[1:], axes[1:])
@@ -190,7 +190,10 @@ def line(r: dict) -> str:
     if "bound" in r:
         dev += f"  (sampling bound {r['bound']:.4f} mm)"
     if r.get("fans"):
-        dev += f"  [{r['fans']} fans, side-floor overcut <= {r['fan_overcut']:.4f} mm]"
+        dev += f"  [{r['fans']} fans, side-floor overcut <= {r['fan_overcut']:.4f} mm"
+        if r.get("fan_covered"):
+            dev += f"; bridges up to {r['fan_covered']:.4f} mm where the path's other turns cut anyway"
+        dev += "]"
     if r.get("cusp_poses"):
         dev += f"  [{r['cusp_poses']} poses added against cusps]"
     if len(r.get("totals", ())) > 1:
