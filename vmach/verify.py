@@ -60,7 +60,7 @@ class Report:
     cycle: dict | None = None
     images: dict[str, str] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
-    part: Any = None  # final stock mesh (trimesh.Trimesh) when the stock was simulated
+    part: Any = None  # the simulated stock (vmach.stock.Stock) when there was one
     timing: Any = None  # vmach.motion.timing.Timing
     sim: Any = None  # vmach.stock.simulate.SimResult
     library: Any = None  # vmach.tooling.ToolLibrary
@@ -69,6 +69,33 @@ class Report:
     @property
     def errors(self) -> int:
         return sum(f.severity == "error" for f in self.findings)
+
+    def simulation(self) -> dict[str, Any] | None:
+        """What the stock simulation did and the error it allows (mm), or None without one.
+        ``error_bounds_mm``: the flat-face scallop of the sampled rotary steps (the P3G flanks'
+        bound), the most a fan cutter removes beyond the true sweep (measured on every fan),
+        the tool polygon in directions its turn does not make exact, the estimated cusps of
+        curved sides between placed poses, the blank's polygon (docs/stock.md)."""
+        if self.sim is None or self.part is None:
+            return None
+        from vmach.tol import tol
+
+        st = self.part.stats
+        return {
+            "moves": int(self.sim.moves),
+            "poses": int(self.sim.samples),
+            "cutters": int(st.cutters),
+            "fan_cutters": int(st.fans),
+            "cusp_poses": int(st.cusp_poses),
+            "max_rotary_step_deg": round(float(self.sim.max_step_deg), 4),
+            "error_bounds_mm": {
+                "face_scallop": round(float(self.sim.bound_mm), 5),
+                "fan_overcut": round(float(st.fan_overcut_mm), 5),
+                "tool_polygon": float(self.part.chord),
+                "side_cusps": float(tol.sweep_cusp),
+                "blank_polygon": float(tol.blank_chord),
+            },
+        }
 
     def to_json(self) -> dict[str, Any]:
         findings = sorted(self.findings, key=sort_key)
@@ -96,6 +123,7 @@ class Report:
                 "infos": sum(f.severity == "info" for f in self.findings),
             },
             "findings": [_finding_json(f) for f in findings],
+            "simulation": self.simulation(),
             "profile": self.profile,
             "cycle_time_s": None if self.cycle is None else self.cycle["total_s"],
             "cycle_time": self.cycle,

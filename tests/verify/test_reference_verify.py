@@ -10,6 +10,7 @@ sector block), and it finishes exactly on the nominal profile, which misses the 
 from __future__ import annotations
 
 import json
+import math
 import re
 
 import pytest
@@ -58,6 +59,23 @@ def test_facing_turns_c1_with_g0_in_the_material(verified):
     assert all(f["volume_mm3"] > 1.0 and f["occurrences"] > 10 for f in rapid)
     # the material is at the shoulder end of the facing pass, z ≈ -40
     assert all(-41 < f["at_mm"][2] < -38 for f in rapid)
+
+
+def test_the_report_states_the_simulations_error_bounds(verified):
+    _, report, _, _ = verified
+    sim = report["simulation"]
+    # every row with a tool is cut (rows before the first tool call are not)
+    assert report["program"]["moves"] - 5 <= sim["moves"] <= report["program"]["moves"]
+    assert sim["poses"] >= sim["moves"]
+    assert 0 < sim["fan_cutters"] < sim["cutters"]
+    assert sim["max_rotary_step_deg"] == pytest.approx(1.713, abs=1e-3)
+    b = sim["error_bounds_mm"]
+    # the flat-face scallop of 1.713° at the flanks' largest radius (under 30 mm)
+    assert 0.002 < b["face_scallop"] <= 30 * (1 / math.cos(math.radians(1.713 / 2)) - 1)
+    assert 0 < b["fan_overcut"] <= 0.005
+    assert (b["tool_polygon"], b["side_cusps"], b["blank_polygon"]) == (0.01, 0.01, 0.002)
+    # the profile's deviations lie within what those allow
+    assert report["profile"]["max_abs_deviation_mm"] <= b["face_scallop"] + b["blank_polygon"]
 
 
 def test_profile_is_the_nominal_one_and_misses_g6(verified):

@@ -4,6 +4,7 @@ the expected line (issue 5 acceptance), and the clean program yields none."""
 from __future__ import annotations
 
 import json
+import re
 import shutil
 
 import numpy as np
@@ -109,7 +110,9 @@ def test_cli_writes_report_and_pictures(tmp_path, capsys):
     data = json.loads((out / "report.json").read_text())
     assert data == json.loads(capsys.readouterr().out)
     assert [(f["kind"], f["line"]) for f in data["findings"]] == [("rapid_into_stock", line_of("N130"))]
-    assert set(data) >= {"program", "machine", "findings", "profile", "cycle_time_s", "images", "timings_s"}
+    assert set(data) >= {"program", "machine", "findings", "simulation", "profile", "cycle_time_s", "images",
+                         "timings_s"}
+    assert data["simulation"]["cutters"] > 0 and data["simulation"]["error_bounds_mm"]["tool_polygon"] == 0.01
     assert data["cycle_time_s"] > 0 and data["cycle_time"]["per_tool"]
     for name in ("toolpath", "collision_1"):
         assert (out / data["images"][name]).stat().st_size > 1000
@@ -122,6 +125,12 @@ def test_stock_from_the_programs_workpiece_block(tmp_path):
     report = verify(prog, VerifyOptions(images=False))
     assert report.stock_spec == "cylinder:d=30,l=60,z=0"
     assert report.findings == [] and report.part is not None
+    # the text summary says what the simulation did and how far it may be off
+    from vmach.commands.verify import summary
+
+    line = [ln for ln in summary(report, tmp_path).splitlines() if ln.startswith("stock:")]
+    want = r"\d+ cutters \(\d+ fans\); simulation error within 0\.\d{4} mm on flat faces, 0\.01 mm on sides"
+    assert len(line) == 1 and re.search(want, line[0])
 
 
 def test_unknown_workpiece_form_is_a_clear_error(tmp_path, capsys):

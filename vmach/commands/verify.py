@@ -92,6 +92,15 @@ def summary(report, out: Path) -> str:
     if d["cycle_time_s"] is not None:
         t = d["cycle_time_s"]
         lines.append(f"cycle time {int(t // 60)} min {t % 60:04.1f} s")
+    if d["simulation"]:
+        m = d["simulation"]
+        b = m["error_bounds_mm"]
+        sides = max(b["fan_overcut"], b["tool_polygon"], b["side_cusps"])
+        lines.append(
+            f"stock: {m['cutters']} cutters ({m['fan_cutters']} fans); simulation error within "
+            f"{b['face_scallop']:.4f} mm on flat faces, {sides:g} mm on sides "
+            "(report.json: simulation.error_bounds_mm)"
+        )
     if d["profile"]:
         p = d["profile"]
         lines.append(
