@@ -72,19 +72,28 @@ def true_floor(phis, rs, h, radius, c_deg, z_tip):
     return best
 
 
+HELIX_X = 26.0   # the finishing helix's tip radius, mm
+
+
+def finishing_helix(library, degrees: float, phis, rs):
+    """The D25 end mill on the finishing helix of the polygon program on a round (C +1.713 deg
+    and Z -0.01 mm per pose from z = -5, X = HELIX_X) over ``degrees``: (tool, tips, axes, the
+    true floor its side cuts at the polar angles ``phis`` and radii ``rs``)."""
+    tool = library.lookup("GLOD D25")
+    c = np.arange(0.0, degrees, 1.713)
+    z = -5.0 - 0.01 * np.arange(len(c))
+    tips, axes = turnmill(HELIX_X, 0.0, z, c)
+    return tool, tips, axes, true_floor(phis, rs, HELIX_X, tool.radius, c, z)
+
+
 @pytest.fixture(scope="module")
 def helix_cut(library):
-    """The D25 end mill on a 300 deg helix (C +1.713 deg and Z -0.01 mm per pose, X = 26), the
-    finishing pass of the polygon program on a round: fans (with the default bound and with
-    none), placed poses, and the true floor its side cuts."""
-    tool = library.lookup("GLOD D25")
-    h, step, pitch = 26.0, 1.713, 0.01
-    c = np.arange(0.0, 300.0, step)
-    z = -5.0 - pitch * np.arange(len(c))
-    tips, axes = turnmill(h, 0.0, z, c)
+    """The finishing helix over 300 deg: fans (with the default bound and with none), placed
+    poses, and the true floor its side cuts."""
     phis = np.radians(np.linspace(5, 295, 400))
-    rs = np.linspace(h + 0.5, 29.5, 7)
-    out = {"tool": tool, "true": true_floor(phis, rs, h, tool.radius, c, z)}
+    rs = np.linspace(HELIX_X + 0.5, 29.5, 7)
+    tool, tips, axes, true = finishing_helix(library, 300.0, phis, rs)
+    out = {"tool": tool, "true": true}
     for name, kw in (("fans", {}), ("unbounded", {"fan_overcut": 1.0}), ("placed", {"fans": False})):
         stock = Stock.from_spec("cylinder:d=60,l=60", chord=FINE, **kw)
         stock.cut(tool, tips, axes)
@@ -391,18 +400,13 @@ def test_a_rim_whose_foot_would_lie_beyond_the_stock_is_fanned(library, monkeypa
 
 @pytest.fixture(scope="module")
 def helix_turns(library):
-    """The D25 on 3.2 turns of the finishing helix (C +1.713 deg and Z -0.01 mm per pose,
-    X = 26) on a round: fans as made (bridges that the path's other turns cut anyway do not
-    count against the bound), and with every bridge counted; and the true floor the side cuts
-    over the whole motion (the last turn's)."""
-    tool = library.lookup("GLOD D25")
-    h, step, pitch = 26.0, 1.713, 0.01
-    c = np.arange(0.0, 1150.0, step)
-    z = -5.0 - pitch * np.arange(len(c))
-    tips, axes = turnmill(h, 0.0, z, c)
+    """3.2 turns of the finishing helix: fans as made (bridges that the path's other turns cut
+    anyway do not count against the bound), and with every bridge counted; and the true floor
+    the side cuts over the whole motion (the last turn's)."""
     phis = np.radians(np.linspace(5, 355, 300))
-    rs = np.linspace(h + 0.5, 29.5, 5)
-    out = {"tool": tool, "true": true_floor(phis, rs, h, tool.radius, c, z)}
+    rs = np.linspace(HELIX_X + 0.5, 29.5, 5)
+    tool, tips, axes, true = finishing_helix(library, 1150.0, phis, rs)
+    out = {"tool": tool, "true": true}
     for name in ("fans", "alone"):
         with pytest.MonkeyPatch.context() as mp:
             if name == "alone":
