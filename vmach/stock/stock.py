@@ -361,11 +361,12 @@ class Stock:
         convex (its volume is its hull's, to 1e-9)."""
         if self._blank_planes is None:
             v, _ = engine.to_mesh(self.initial, double=True)
-            hv, hf = engine.hull_mesh(v)
+            hull = engine.hull(v)
+            hv, hf = engine.to_mesh(hull, double=True)
             self._blank_planes = shape(hv, hf).planes
             self._blank_points = hv
-            hull = engine.volume(engine.hull(hv))
-            self._blank_convex = abs(hull - engine.volume(self.initial)) <= 1e-9 * max(hull, 1.0)
+            vol = engine.volume(hull)
+            self._blank_convex = abs(vol - engine.volume(self.initial)) <= 1e-9 * max(vol, 1.0)
 
     def blank_holds(self, points: np.ndarray) -> np.ndarray:
         """(k,) bool: points (k, 3) that lie inside the blank, 1e-6 mm or more from its
