@@ -111,6 +111,27 @@ def test_a_shank_in_uncut_material_is_found_until_the_cutter_clears_it(tmp_path)
     assert len(turn) < 40                                # ... and is gone well before the turn ends
 
 
+
+def test_a_shank_sweeping_through_the_shaft_between_two_far_poses_is_found(tmp_path):
+    """One straight G1 across the shaft, Y -60 → +60 with the face at X = 8: the cutter takes
+    X 8…13.5 and the Ø36 shank behind it sweeps through the rim (13.5 < r < 15), while at both
+    ends of the move the shank's box lies clear of the blank's. The row is judged by the box
+    around its whole sweep (a collision used to go unseen unless a pose lay near the shaft)."""
+    text = HEAD.replace("N90 G0 X40 Y0 Z25", "N90 G0 X40 Y-60 Z25") + """N100 G0 Z-30
+N110 G1 X8 F400
+N120 G1 Y60
+N130 G0 X40
+N140 G0 Z25
+N150 M30
+"""
+    sim, _, _, _ = _run(tmp_path, text, checks=True)
+    hits = [f for f in sim.findings if f.kind == "holder_collision"]
+    assert [(f.line, f.data["part"]) for f in hits] == [(_line(text, "N120"), "shank")]
+    # the rim's segment beyond X = 13.5 (|y| < 6.54), over the 36 mm the shank spans along Z
+    y = np.linspace(-np.sqrt(15**2 - 13.5**2), np.sqrt(15**2 - 13.5**2), 20001)
+    area = np.trapezoid(np.sqrt(15**2 - y**2) - 13.5, y)
+    assert hits[0].data["volume_mm3"] == pytest.approx(area * 36.0, rel=0.02)
+
 def test_part_solids_of_a_turning_path_are_the_placed_prisms():
     """A turning step places the part at its poses (each once); a straight step is the hull
     of its two ends — the same solids as hulls of the placed points."""

@@ -199,9 +199,17 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
     cut_boxes = cylinder_boxes(tips, ax, 0.0, tool.cutting_length, tool.radius)
     parts = body_parts(tool)
     blank = np.asarray(stock.initial_bounds)
-    part_hit = np.zeros(len(tips), bool)
-    for p in parts:
-        part_hit |= overlaps(cylinder_boxes(tips, ax, p.z0, p.z1, p.radius), blank)
+    # a row's parts may reach the blank when the box around them over the row's poses does: a
+    # straight row's sweep lies in the box around its two ends (both of which may lie outside
+    # the blank's box while the move passes through it)
+    part_hit = np.zeros(b - a, bool)
+    if parts:
+        boxes = np.stack([cylinder_boxes(tips, ax, p.z0, p.z1, p.radius) for p in parts])
+        lo, hi = boxes[:, :, 0].min(axis=0), boxes[:, :, 1].max(axis=0)        # (poses, 3)
+        last = first + k                                                    # each row's end pose
+        row_lo = np.minimum(np.minimum.reduceat(lo, first, axis=0), lo[last])
+        row_hi = np.maximum(np.maximum.reduceat(hi, first, axis=0), hi[last])
+        part_hit = overlaps(np.stack([row_lo, row_hi], axis=1), blank)
     rapid = table.kind[a:b] == TRAVERSE
     held = [None, None]             # poses [first, last + 1) of chunks not yet cut: one path
 
@@ -226,7 +234,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
                     probes[("rapid", j)] = stock.cutters(tool, tips[s:e], ax[s:e])
                 elif clearance > 0 and overlaps((box + [[-clearance], [clearance]])[None], here)[0]:
                     near[j] = stock.cutters(tool, tips[s:e], ax[s:e])
-            if part_hit[s:e].any():
+            if part_hit[j]:
                 for p in parts:
                     q = part_solids(p, tips[s:e], ax[s:e])
                     probes[(p.name, j)] = (q, [engine.bounds(x) for x in q])
