@@ -459,3 +459,39 @@ def test_a_sample_is_covered_only_when_every_patch_around_it_lies_in_one_pose():
     assert not got[..., 2:].any() and got[..., :2].all()
     # only what is asked for is answered
     assert not covered(grid, np.zeros_like(need), 0.1, up, tips, axes, tool).any()
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_random_helices_over_two_turns_stay_within_the_bound(library, seed):
+    """Random convex profiles turned 2.3 times with a pitch (the tool on the contact point,
+    give or take): the fans' bridges that the next turn cuts anyway are not counted, and the
+    part still lies within the reported bound (plus both polygons' deviation) of a cut by
+    placed poses 4× denser — the floor nowhere deeper by more, the flank nowhere deeper."""
+    rng = np.random.default_rng(seed)
+    tool = library.lookup("GLOD D25")
+    k = int(rng.integers(2, 5))
+    amp = rng.uniform(0.0, 0.6) * 24.0 / (k * k - 1)
+    pitch, y0, sense = rng.uniform(0.005, 0.02), rng.uniform(-0.1, 0.1), rng.choice([-1.0, 1.0])
+    n, step = 483, 1.713
+
+    def path(sub):
+        c = sense * np.arange(n * sub + 1) * step / sub
+        x = 24.0 + amp * np.sin(np.radians(k * c))
+        y = amp * k * np.cos(np.radians(k * c)) + y0
+        return turnmill(x, y, -6.0 - pitch * np.arange(n * sub + 1) / sub, c)
+
+    cuts = {}
+    for name, sub, kw in (("fans", 1, {}), ("dense", 4, {"fans": False})):
+        stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.002, **kw)
+        stock.cut(tool, *path(sub))
+        cuts[name] = stock
+    fans = cuts["fans"]
+    assert fans.stats.fans > 0 and fans.stats.fan_covered_mm > tol.fan_overcut
+    dev = tool_solid(tool, 0.002).deviation
+    phis = np.radians(np.linspace(3, 357, 300))
+    rs = np.array([26.5, 28.0, 29.5])
+    deeper = floor_hits(cuts["dense"].solid, phis, rs) - floor_hits(fans.solid, phis, rs)
+    assert np.nanmax(deeper) <= fans.stats.fan_overcut_mm + 2 * dev + 1e-6
+    for z in (-3.0, -10.0):
+        for phi in phis[::5]:
+            assert inward(fans.solid, phi, z) <= inward(cuts["dense"].solid, phi, z) + 1e-5
