@@ -261,7 +261,8 @@ class Stock:
     def _sweep(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None):
         """Yield (tool solid, jobs) for consecutive stretches of a path, in path order. A job
         is ``(piece, frames (m, 3, 4) of placed poses, [(frame_a, frame_b) of each translation
-        run], [(tips, axes, omega, frames) of each fan run — piece 0 only])``. Every pose is
+        run], [(tips, unit axes, omega, frames, path) of each fan run — piece 0 only])``, with
+        ``path`` the whole path's tips and unit axes (what else it cuts). Every pose is
         turned about its axis so that the tool's polygon is exact toward the sides of its
         travel (:func:`vmach.tooling.solid.spun`)."""
         t0 = time.perf_counter()
@@ -289,12 +290,13 @@ class Stock:
         # fan runs over rotary steps and the straight steps between them (fan.plan_fans);
         # the placed poses and translation runs they hold are left out
         rotary = sp.angles > tol.hull_angle
-        fans = self._fans(ts, tips, axes, rotary, ~rotary)
+        unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+        fans = self._fans(ts, tips, unit, rotary, ~rotary)
         runs = sp.runs
         if len(fans.runs):
             poses = _outside_runs(poses, fans.runs)
             runs = runs[~_within(runs, fans.runs)]
-        path = (tips, axes / np.linalg.norm(axes, axis=1, keepdims=True))   # what else the path cuts
+        path = (tips, unit)                       # what else the path cuts
         key = poses.astype(float)                 # where each placed pose lies along the path
         if between is not None and self.trim and isinstance(tool, Tool):
             more, at = self._cusp_poses(tool, ts, tips, fr, rotary, fans.runs, between)
@@ -310,7 +312,7 @@ class Stock:
             part = order[c0 : c0 + self.CHUNK]
             chunk_poses = poses[which[part][kind[part] == 0]]
             ends = [run_extremes(tips, r) for r in runs[which[part][kind[part] == 1]]]
-            fan_jobs = [(tips[a : b + 1], axes[a : b + 1], fans.omega[f], fr[a : b + 1], path)
+            fan_jobs = [(tips[a : b + 1], unit[a : b + 1], fans.omega[f], fr[a : b + 1], path)
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
             run_fr = _run_frames(tips, axes, ends, ts.segments)   # shared by every piece
             jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [])
@@ -381,16 +383,15 @@ class Stock:
 
     def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray,
               slides: np.ndarray):
-        """Candidate fan runs over the ``rotary`` steps (n-1,) bool of a path and the
-        ``slides`` between them (:func:`vmach.stock.fan.plan_fans`; none unless the tool is one
-        flat-faced prism and fans are on)."""
+        """Candidate fan runs over the ``rotary`` steps (n-1,) bool of a path (tips, unit
+        axes (n, 3)) and the ``slides`` between them (:func:`vmach.stock.fan.plan_fans`; none
+        unless the tool is one flat-faced prism and fans are on)."""
         pr = self._prism(ts) if self.fans else None
         if pr is None:
             return NO_FANS
         self._blank_hull()
-        unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-        return plan_fans(tips, unit, rotary, pr, slides=slides,
-                         clear=back_clear(tips, unit, pr, self._blank_points), stock_box=self.bounds)
+        return plan_fans(tips, axes, rotary, pr, slides=slides,
+                         clear=back_clear(tips, axes, pr, self._blank_points), stock_box=self.bounds)
 
     def _boxes(self, zlo: np.ndarray, zhi: np.ndarray, fresh: bool = False) -> np.ndarray:
         """Trim boxes (k, 2, 3) for cutters spanning Z ranges [zlo, zhi] (k,): the stock's
@@ -425,8 +426,9 @@ class Stock:
                      path: tuple[np.ndarray, np.ndarray] | None = None
                      ) -> list[tuple[engine.Solid, np.ndarray]]:
         """The cutters of one candidate fan run (:mod:`vmach.stock.fan`): [(solid, box (2, 3)),
-        ...]. ``fr`` (n, 3, 4): its poses' frames, as placed poses have them (turned so that the
-        polygon is exact to both sides of the travel, :func:`vmach.tooling.solid.spun`);
+        ...]. ``tips``, ``axes`` (n, 3): its poses (unit axes); ``fr`` (n, 3, 4): their frames,
+        as placed poses have them (turned so that the polygon is exact to both sides of the
+        travel, :func:`vmach.tooling.solid.spun`);
         ``box`` (2, 3): its trim box; ``trimmed``: its poses clipped to it; ``path``: the tips
         and unit axes (m, 3) of the whole path the run belongs to.
 
@@ -439,7 +441,6 @@ class Stock:
         suggests. Where the path's own poses cut the bridged place anyway (a helix's next or
         previous turn; :func:`vmach.stock.fan.covered`) the bridge does not count: the final
         stock is the same. Two steps that still bridge too much are cut as placed poses."""
-        unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
         reach = np.broadcast_to(box, (len(tips), 2, 3))
         pr = self._prism(ts)
         lines = side_lines(fr, omega, pr, reach, self._blank_planes)
@@ -506,10 +507,10 @@ class Stock:
                         for k in own if k is not None]
                 # ... and translation hulls for its straight steps
                 straight = [(k, k + 1) for k in range(i, j)
-                            if np.linalg.norm(np.cross(unit[k], unit[k + 1])) <= 1e-12]
+                            if np.linalg.norm(np.cross(axes[k], axes[k + 1])) <= 1e-12]
                 out += self._make_runs(ts, 0, _run_frames(tips, axes, straight, ts.segments))
             else:
-                m = material_points(tips[i : j + 1], unit[i : j + 1], omega, q)
+                m = material_points(tips[i : j + 1], axes[i : j + 1], omega, q)
                 out.append((engine.subtract(hull, [engine.hull(m)]) if m is not None else hull,
                             np.stack([q.min(axis=0), q.max(axis=0)])))
                 self.stats.fans += 1
