@@ -1,7 +1,7 @@
 """Stock-removal figures: the polygon-shaft program, scaling, the pipeline before issue 4's speed
 work, and a naive manifold3d baseline.
 
-    python benchmarks/stock.py [--program FILE] [--quick] [--repeat N]
+    python benchmarks/stock.py [--program FILE] [--quick] [--repeat N] [--accuracy fine]
 
 Program: the published listing split as issue 2 describes (../shared/reference) when present,
 else the project's own fixtures/polygon_shaft/POLY50.MPF. Each case runs in a child process so
@@ -45,6 +45,7 @@ REFERENCE = ROOT.parent / "shared" / "reference" / "polygon_shaft_thesis.mpf"
 TOOLS = ROOT / "fixtures" / "tools" / "polygon_shaft.toml"
 BEFORE = {"trim": False, "spread": 1, "chord": 0.002}   # the pipeline before the speed work
 NAIVE_CHORD = 0.002
+PRESET: dict = {}   # --accuracy: the program cases' Stock(chord=..., cusp=...) (vmach.tol.ACCURACY)
 
 
 def _program_table(program: str | None):
@@ -112,7 +113,7 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
         out["moves"] = len(table)
         t_all = time.perf_counter()          # the interpreter is not part of the figure
         if kind != "program-naive":
-            stock = Stock.from_spec("cylinder:d=60,l=100", **(BEFORE if kind == "program-before" else {}))
+            stock = Stock.from_spec("cylinder:d=60,l=100", **(BEFORE if kind == "program-before" else PRESET))
             sim = simulate(table, model, lib, stock, checks=kind == "program-checked")
             part = stock.solid
             engine.check(part)
@@ -210,8 +211,16 @@ def main(argv=None) -> int:
                     help="the program (plain and checked) and 1k/4k helices only: no before/naive cases")
     ap.add_argument("--repeat", type=int, default=1,
                     help="runs per case; the fastest is printed, and every run's total")
+    ap.add_argument("--accuracy", default="standard",
+                    help="the program cases' preset, as vmach verify --accuracy (standard, fine)")
     args = ap.parse_args(argv)
-    print("vmach stock removal benchmark (2-core machine figures in docs/stock.md)")
+    from vmach.tol import ACCURACY
+
+    if args.accuracy not in ACCURACY:
+        ap.error(f"--accuracy: one of {', '.join(ACCURACY)}")
+    acc = ACCURACY[args.accuracy]
+    PRESET.update(chord=acc.tool_chord, cusp=acc.sweep_cusp)
+    print(f"vmach stock removal benchmark ({args.accuracy} accuracy; 2-core figures in docs/stock.md)")
     kinds = ["program", "program-checked"] + ([] if args.quick else ["program-before", "program-naive"])
     for kind in kinds:
         once = kind in ("program-before", "program-naive")    # minutes each: run once

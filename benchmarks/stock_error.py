@@ -60,6 +60,8 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import stock as bench  # noqa: E402  (benchmarks/stock.py: program and tool library)
 
+from vmach.tol import ACCURACY  # noqa: E402
+
 SPEC = "cylinder:d=60,l=100"
 FINE_CHORD = 0.001   # mm, tool polygons
 FINE_ANGLE = 0.5     # deg, rotary sampling
@@ -108,7 +110,8 @@ def _simulate_child(settings: dict, program: str | None, out_file: str, conn) ->
     lib = load_tools(bench.TOOLS)
     model, table, path = bench._program_table(program)
     t0 = time.perf_counter()
-    stock = Stock.from_spec(SPEC, chord=settings["chord"], fans=settings["fans"])
+    stock = Stock.from_spec(SPEC, chord=settings["chord"], fans=settings["fans"],
+                            cusp=settings.get("cusp", tol.sweep_cusp))
     sim = simulate(table, model, lib, stock, angle=settings["angle"], step=settings["step"])
     part = stock.solid
     engine.check(part)
@@ -463,6 +466,8 @@ def main(argv=None) -> int:
     ap.add_argument("--fine-chord", type=float, default=FINE_CHORD, help="reference tool chord, mm")
     ap.add_argument("--fine-angle", type=float, default=FINE_ANGLE, help="reference sweep angle, deg")
     ap.add_argument("--fine-step", type=float, default=FINE_STEP, help="reference sweep step, mm")
+    ap.add_argument("--accuracy", choices=tuple(ACCURACY), default="standard",
+                    help="the default part's preset (vmach verify --accuracy)")
     ap.add_argument("--samples", type=int, default=400_000, help="random points per surface")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--threshold", type=float, default=0.005, help="|d| reported by location, mm")
@@ -480,6 +485,9 @@ def main(argv=None) -> int:
     print(f"code {ROOT} ({_code_version()[0]}), program {_program_source(args.program)}, cache {args.cache}")
 
     default = {"chord": tol.tool_chord, "fans": True, "angle": tol.sweep_angle, "step": tol.sweep_step}
+    if args.accuracy != "standard":     # (the standard settings keep their cache key)
+        acc = ACCURACY[args.accuracy]
+        default.update(chord=acc.tool_chord, cusp=acc.sweep_cusp)
     fine = {"chord": args.fine_chord, "fans": False, "angle": args.fine_angle, "step": args.fine_step}
     vd, fd, md, file_d = part_mesh(default, args.program, args.cache, "default")
     if args.reference:
@@ -489,7 +497,9 @@ def main(argv=None) -> int:
         vr, fr, mr, file_r = part_mesh(fine, args.program, args.cache, "reference")
     for label, m, file in (("default", md, file_d), ("reference", mr, file_r)):
         fan = f", {m['fans_made']} fans (overcut <= {m['fan_overcut']:.4f})" if m["fans"] else ""
-        print(f"  {label:<9s}: tool chord {m['chord']:g} mm, sweep angle {m['angle']:g} deg, step "
+        cusp = m.get("cusp", tol.sweep_cusp)
+        print(f"  {label:<9s}: tool chord {m['chord']:g} mm, side cusps {cusp:g} mm, "
+              f"sweep angle {m['angle']:g} deg, step "
               f"{m['step']:g} mm, fans {'on' if m['fans'] else 'off'}; blank {m['spec']} to chord "
               f"{m['blank_chord']:g} mm; {m['program']} {m['moves']} moves")
         print(f"  {'':<9s}  wall {m['wall']:.1f} s, {m['triangles']} triangles, {m['cutters']} cutters, "

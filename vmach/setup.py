@@ -7,6 +7,7 @@ Command-line options win; otherwise a ``vmach.toml`` beside the program says wha
     stock = "cylinder:d=60,l=100"
     profile = "P3G:50"
     profile_z = "-35:-5"
+    accuracy = "fine"                    # stock simulation preset (vmach.tol.ACCURACY)
 
     [zero_offsets.G54]                   # settable zero offsets, mm / degrees
     Z = 0.0
@@ -37,6 +38,7 @@ class Setup:
     stock: str | None = None
     profile: str | None = None
     profile_z: str | None = None
+    accuracy: str | None = None
     zero_offsets: dict[str, dict[str, float]] = field(default_factory=dict)
     source: Path | None = None  # the vmach.toml read, if any
 
@@ -75,6 +77,7 @@ def read_setup(program: str | Path) -> Setup:
         stock=data.get("stock"),
         profile=data.get("profile"),
         profile_z=data.get("profile_z"),
+        accuracy=data.get("accuracy"),
         zero_offsets={
             k.upper(): {a: float(v) for a, v in vals.items()}
             for k, vals in data.get("zero_offsets", {}).items()

@@ -62,3 +62,23 @@ class Tolerances:
 
 
 tol = Tolerances()
+
+
+@dataclass(frozen=True)
+class Accuracy:
+    """A stock simulation's accuracy preset (``vmach verify --accuracy``): the tool polygon
+    (mm, as ``Tolerances.tool_chord``) and the side cusps between placed poses (mm, as
+    ``Tolerances.sweep_cusp``). Error and time of each on the polygon-shaft program are
+    measured in docs/stock.md (``benchmarks/stock_error.py --accuracy NAME``)."""
+
+    tool_chord: float
+    sweep_cusp: float
+
+
+#: ``standard``: the defaults (about 10 s for the polygon-shaft program, within 0.015 mm of a
+#: converged simulation). ``fine``: within about 0.005 mm (the flank/shoulder corner
+#: +0.0066), about twice the time.
+ACCURACY = {
+    "standard": Accuracy(tool_chord=tol.tool_chord, sweep_cusp=tol.sweep_cusp),
+    "fine": Accuracy(tool_chord=0.004, sweep_cusp=0.0025),
+}

@@ -24,6 +24,7 @@ from vmach.errors import InputError
 from vmach.findings import Finding, sort_key
 from vmach.motion import MoveTable, build
 from vmach.setup import Setup, read_setup, resolve_model, with_offsets
+from vmach.tol import ACCURACY
 
 
 @dataclass
@@ -43,6 +44,7 @@ class VerifyOptions:
     quiet: bool = True
     export: tuple[str, ...] = ()
     clearance: float = 1.0  # near-miss distance for rapids, mm
+    accuracy: str | None = None  # stock simulation preset (vmach.tol.ACCURACY); None: setup, else standard
 
 
 @dataclass
@@ -65,6 +67,7 @@ class Report:
     sim: Any = None  # vmach.stock.simulate.SimResult
     library: Any = None  # vmach.tooling.ToolLibrary
     profile_spec: str | None = None
+    accuracy: str = "standard"  # the stock simulation's preset (vmach.tol.ACCURACY)
 
     @property
     def errors(self) -> int:
@@ -82,6 +85,7 @@ class Report:
 
         st = self.part.stats
         return {
+            "accuracy": self.accuracy,
             "moves": int(self.sim.moves),
             "poses": int(self.sim.samples),
             "cutters": int(st.cutters),
@@ -92,7 +96,7 @@ class Report:
                 "face_scallop": round(float(self.sim.bound_mm), 5),
                 "fan_overcut": round(float(st.fan_overcut_mm), 5),
                 "tool_polygon": float(self.part.chord),
-                "side_cusps": float(tol.sweep_cusp),
+                "side_cusps": float(self.part.cusp),
                 "blank_polygon": float(tol.blank_chord),
             },
         }
@@ -189,6 +193,11 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             library = load_tools(tools_path)
         report.library = library
         report.stock_spec = options.stock or setup.stock
+        report.accuracy = options.accuracy or setup.accuracy or "standard"
+        if report.accuracy not in ACCURACY:
+            where = f"{setup.source}: " if options.accuracy is None else "--"
+            raise InputError(f"{where}accuracy {report.accuracy!r}: one of {', '.join(ACCURACY)}",
+                             kind="usage")
 
     with clock("interpret"):
         dialect = interpreters.dialect_for(path)
@@ -228,7 +237,9 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             from vmach.stock import Stock
             from vmach.stock.simulate import simulate
 
-            stock = Stock.from_spec(spec, progress=not options.quiet)
+            acc = ACCURACY[report.accuracy]
+            stock = Stock.from_spec(spec, progress=not options.quiet, chord=acc.tool_chord,
+                                    cusp=acc.sweep_cusp)
             sim = simulate(table, model, library, stock, checks=True, clearance=options.clearance)
             report.part = stock
             report.sim = sim

@@ -13,7 +13,7 @@ from tests.stock.conftest import turnmill
 from tests.stock.test_fans import floor_hits, true_floor
 from vmach.stock import Stock
 from vmach.stock.cusps import AROUND, cusp_height, side, step_cusps, substeps
-from vmach.tol import tol
+from vmach.tol import ACCURACY
 from vmach.tooling import Tool, frames, tool_solid
 
 
@@ -63,14 +63,17 @@ def test_a_side_moved_across_its_axis_leaves_the_two_circle_cusp():
     assert list(substeps(np.array([0.0, 0.01, 0.0101, 0.04, 0.041, 10.0]), 0.01)) == [1, 1, 2, 2, 3, 8]
 
 
-def test_placed_poses_get_the_poses_between_that_keep_the_side_made_floor_within_the_cusp():
+@pytest.mark.parametrize("accuracy", ["standard", "fine"])
+def test_placed_poses_get_the_poses_between_that_keep_the_side_made_floor_within_the_cusp(accuracy):
     """A Ø10 end mill, radial at X = 12, turned 6 deg per step about the work axis: its side
     cuts a shoulder floor 5 mm below the tip's height, and placed poses leave cusps on it of
     R - sqrt(R² - (r·sin 3°)²), 0.06 mm at r = 15. With the poses between from the control's
-    motion (here: C interpolated), the floor is within ``tol.sweep_cusp`` of the true floor
-    the continuous motion cuts, plus the tool polygon's deviation, and never below it. (Fans
-    off: a flat end mill's rotary run is otherwise one fan cutter, whose hull leaves no cusp
-    — and gets no poses added but for the steps left to placed poses.)"""
+    motion (here: C interpolated), the floor is within the stock's ``cusp`` (``tol.sweep_cusp``,
+    or the ``fine`` preset's) of the true floor the continuous motion cuts, plus the tool
+    polygon's deviation, and never below it. (Fans off: a flat end mill's rotary run is
+    otherwise one fan cutter, whose hull leaves no cusp — and gets no poses added but for the
+    steps left to placed poses.)"""
+    acc = ACCURACY[accuracy]
     tool = Tool(name="flat10", kind="flat", diameter=10.0, cutting_length=20.0)
     c = np.arange(0.0, 61.0, 6.0)
     tips, axes = turnmill(12.0, 0.0, -2.0, c)
@@ -82,9 +85,9 @@ def test_placed_poses_get_the_poses_between_that_keep_the_side_made_floor_within
 
     plain = Stock.from_spec("cylinder:d=30,l=20", fans=False)
     plain.cut(tool, tips, axes)
-    refined = Stock.from_spec("cylinder:d=30,l=20", fans=False)
+    refined = Stock.from_spec("cylinder:d=30,l=20", fans=False, chord=acc.tool_chord, cusp=acc.sweep_cusp)
     refined.cut(tool, tips, axes, between)
-    fanned = Stock.from_spec("cylinder:d=30,l=20")
+    fanned = Stock.from_spec("cylinder:d=30,l=20", chord=acc.tool_chord, cusp=acc.sweep_cusp)
     fanned.cut(tool, tips, axes, between)
     # fans take runs of up to tol.fan_angle (3 steps here); the one step left over is placed
     assert fanned.stats.fans > 0 and 0 < fanned.stats.cusp_poses < refined.stats.cusp_poses
@@ -96,11 +99,16 @@ def test_placed_poses_get_the_poses_between_that_keep_the_side_made_floor_within
     left_plain = floor_hits(plain.solid, phis, rs) - truth
     left = floor_hits(refined.solid, phis, rs) - truth
     assert np.nanmax(left_plain) > 0.05                       # 5 - sqrt(25 - (15 sin 3°)²) = 0.062
-    assert np.nanmax(left) <= tol.sweep_cusp + dev
+    assert np.nanmax(left) <= acc.sweep_cusp + dev
     assert np.nanmin(left) >= -dev - 1e-6                     # placed poses: never below
     assert np.nanmax(left) < 0.3 * np.nanmax(left_plain)
     left_fanned = floor_hits(fanned.solid, phis, rs) - truth
-    assert np.nanmax(left_fanned) <= tol.sweep_cusp + dev
+    assert np.nanmax(left_fanned) <= acc.sweep_cusp + dev
+    if accuracy == "fine":   # the preset asks for more poses, and they bring the floor closer
+        standard = Stock.from_spec("cylinder:d=30,l=20", fans=False, chord=acc.tool_chord)
+        standard.cut(tool, tips, axes, between)
+        assert refined.stats.cusp_poses > standard.stats.cusp_poses
+        assert np.nanmax(left) < np.nanmax(floor_hits(standard.solid, phis, rs) - truth) - 0.001
     # what the added poses remove is material the plain cut left
     assert refined.volume < plain.volume
 

@@ -118,6 +118,38 @@ def test_cli_writes_report_and_pictures(tmp_path, capsys):
         assert (out / data["images"][name]).stat().st_size > 1000
 
 
+def test_accuracy_fine_simulates_to_its_finer_bounds_and_says_so(tmp_path, capsys):
+    prog, _ = variant(tmp_path)
+    out = tmp_path / "out"
+    assert main(["verify", str(prog), "--out", str(out), "--no-images", "--accuracy", "fine"]) == 0
+    text = capsys.readouterr().out
+    sim = json.loads((out / "report.json").read_text())["simulation"]
+    assert sim["accuracy"] == "fine"
+    assert (sim["error_bounds_mm"]["tool_polygon"], sim["error_bounds_mm"]["side_cusps"]) == (0.004, 0.0025)
+    assert re.search(r"stock \(fine accuracy\): \d+ cutters .* 0\.004 mm on sides", text)
+    standard = verify(prog, VerifyOptions(images=False))
+    fine = verify(prog, VerifyOptions(images=False, accuracy="fine"))
+    assert standard.simulation()["accuracy"] == "standard" and fine.part.chord == 0.004
+    assert fine.findings == standard.findings == []
+    # the same part to within the two simulations' bounds (tool polygons of 0.01 and 0.004 mm)
+    v, f = fine.part.mesh()
+    area = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1).sum()
+    assert 0 < abs(standard.part.volume - fine.part.volume) < 0.014 * area
+    with pytest.raises(SystemExit) as e:
+        main(["verify", str(prog), "--accuracy", "coarse"])
+    assert e.value.code == 2 and "invalid choice: 'coarse'" in capsys.readouterr().err
+    # the setup file beside the program may ask for it; a name it does not know is an error
+    setup = prog.parent / "vmach.toml"
+    setup.write_text('accuracy = "fine"\n' + setup.read_text())
+    assert verify(prog, VerifyOptions(images=False)).simulation()["accuracy"] == "fine"
+    assert verify(prog, VerifyOptions(images=False, accuracy="standard")).part.chord == 0.01
+    setup.write_text(setup.read_text().replace('"fine"', '"ultra"'))
+    assert main(["verify", str(prog), "--out", str(out)]) != 0
+    err = capsys.readouterr().err
+    assert "error[usage]" in err and "accuracy 'ultra': one of standard, fine" in err
+    assert "Traceback" not in err
+
+
 def test_stock_from_the_programs_workpiece_block(tmp_path):
     prog, _ = variant(tmp_path, "N10 TRANS\n", 'N5 WORKPIECE(,"",,"CYLINDER",192,0,-60,-80,30)\nN10 TRANS\n')
     setup = prog.parent / "vmach.toml"
@@ -128,7 +160,8 @@ def test_stock_from_the_programs_workpiece_block(tmp_path):
     # the text summary says what the simulation did and how far it may be off
     from vmach.commands.verify import summary
 
-    line = [ln for ln in summary(report, tmp_path).splitlines() if ln.startswith("stock:")]
+    lines = summary(report, tmp_path).splitlines()
+    line = [ln for ln in lines if ln.startswith("stock (standard accuracy):")]
     want = r"\d+ cutters \(\d+ fans\); simulation error within 0\.\d{4} mm on flat faces, 0\.01 mm on sides"
     assert len(line) == 1 and re.search(want, line[0])
 

@@ -1,7 +1,7 @@
 """One piece of stock and its queue of cutters, subtracted in checked batches.
 
-Used for every partition cell of an in-process :class:`vmach.stock.Stock` and by each worker
-process of :mod:`vmach.stock.parallel`. Subtraction commutes, so the order in which cutters
+Used for every partition cell of a :class:`vmach.stock.Stock` (one cell unless ``cells`` asks
+for more). Subtraction commutes, so the order in which cutters
 are subtracted does not change the result; it changes the cost. A batch boolean's work is
 mostly where the batch's cutters cross each other, and consecutive cutters of a path overlap
 most, so a window of ``batch × spread`` queued cutters is subtracted as ``spread`` batches

@@ -133,6 +133,8 @@ class Stock:
     fans : bool — cut runs of rotary steps of a flat-faced prism tool with fan cutters
         (:mod:`vmach.stock.fan`) instead of placed poses (only with ``trim``).
     fan_overcut : float, mm — the most a fan cutter may remove beyond the true sweep.
+    cusp : float, mm — the largest cusp a curved side may leave between placed poses of a
+        rotary step before poses are added between them (:mod:`vmach.stock.cusps`).
     spread : int — batches taken from one window of queued cutters (:mod:`vmach.stock.batch`).
     """
 
@@ -145,7 +147,7 @@ class Stock:
     def __init__(self, solid: engine.Solid, *, batch: int = 64,
                  cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
                  progress: bool = False, trim: bool = True, spread: int = 8, fans: bool = True,
-                 fan_overcut: float = tol.fan_overcut):
+                 fan_overcut: float = tol.fan_overcut, cusp: float = tol.sweep_cusp):
         engine.check(solid, "blank")
         self.initial = solid
         self.initial_bounds = engine.bounds(solid)
@@ -155,6 +157,7 @@ class Stock:
         self.trim = trim
         self.fans = fans and trim
         self.fan_overcut = fan_overcut
+        self.cusp = cusp
         self._blank_planes: np.ndarray | None = None
         self._blank_points: np.ndarray | None = None   # (v, 3) the blank's hull vertices
         self._blank_convex = False
@@ -234,7 +237,7 @@ class Stock:
             into ``parts`` equal parts of the motion — the ``parts - 1`` poses strictly inside,
             step by step, ``at`` = i + fraction. With it, rotary steps placed as poses get
             more poses where a curved side of a Tool would leave cusps over
-            ``tol.sweep_cusp`` (:mod:`vmach.stock.cusps`).
+            the stock's ``cusp`` (``tol.sweep_cusp``; :mod:`vmach.stock.cusps`).
         """
         n = 0
         for ts, jobs in self._sweep(tool, tips, axes, between):
@@ -325,7 +328,7 @@ class Stock:
     def _cusp_poses(self, tool: Tool, ts: ToolSolid, tips: np.ndarray, fr: np.ndarray, rotary: np.ndarray,
                     fan_runs: np.ndarray, between) -> tuple[np.ndarray, np.ndarray]:
         """Placed poses to add inside the rotary steps (n-1,) bool that no fan cutter holds,
-        where the tool's curved side would leave cusps over ``tol.sweep_cusp`` between the
+        where the tool's curved side would leave cusps over ``self.cusp`` between the
         step's two poses (:mod:`vmach.stock.cusps`): frames (e, 3, 4) — turned as placed
         poses are — and their places along the path (e,) float (step + fraction)."""
         none = np.zeros((0, 3, 4)), np.zeros(0)
@@ -340,7 +343,7 @@ class Stock:
         sd = cusps.side(tool)
         if len(idx) == 0 or len(sd.points) == 0:
             return none
-        parts = cusps.substeps(cusps.step_cusps(sd, fr[idx], fr[idx + 1], self._holds, tol.sweep_cusp))
+        parts = cusps.substeps(cusps.step_cusps(sd, fr[idx], fr[idx + 1], self._holds, self.cusp), self.cusp)
         need = parts > 1
         if not need.any():
             return none
