@@ -18,7 +18,7 @@ from vmach.machine import load_model
 from vmach.motion.table import build
 from vmach.stock import Stock, engine
 from vmach.stock import simulate as simulate_module
-from vmach.stock.events import Part, part_solids
+from vmach.stock.events import Part, cylinders_beyond, part_solids
 from vmach.stock.simulate import simulate
 from vmach.tooling import load_tools
 
@@ -131,6 +131,57 @@ N150 M30
     y = np.linspace(-np.sqrt(15**2 - 13.5**2), np.sqrt(15**2 - 13.5**2), 20001)
     area = np.trapezoid(np.sqrt(15**2 - y**2) - 13.5, y)
     assert hits[0].data["volume_mm3"] == pytest.approx(area * 36.0, rel=0.02)
+
+def test_cylinders_beyond_is_the_least_distance_of_the_cylinder_beyond_a_plane():
+    rng = np.random.default_rng(3)
+    planes = rng.normal(size=(7, 4))
+    planes[:, :3] /= np.linalg.norm(planes[:, :3], axis=1, keepdims=True)
+    tips = rng.normal(scale=20.0, size=(5, 3))
+    axes = rng.normal(size=(5, 3))
+    got = cylinders_beyond(planes, tips, axes, 2.0, 30.0, 9.0)
+    # the cylinder's two rims, densely: the least distance lies on one of them
+    a = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+    u = np.cross(a, [0.3, 0.5, 0.8])
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    w = np.cross(a, u)
+    t = np.linspace(0.0, 2 * np.pi, 20000, endpoint=False)
+    for k in range(len(tips)):
+        ring = 9.0 * (np.cos(t)[:, None] * u[k] + np.sin(t)[:, None] * w[k])
+        pts = np.concatenate([tips[k] + 2.0 * a[k] + ring, tips[k] + 30.0 * a[k] + ring])
+        least = (pts @ planes[:, :3].T - planes[:, 3]).min(axis=0)
+        assert got[k] == pytest.approx(least, abs=1e-5)
+        assert np.all(got[k] <= least + 1e-12)
+
+
+def test_parts_beyond_a_face_of_the_blank_get_no_solids(tmp_path, monkeypatch):
+    """The first turn alone, face at X = 12: the shank (X >= 17.5) lies inside the blank's
+    box in most poses, but beyond the Ø30 blank's face plane at its angle in all of them — no
+    part solid is made or met, and the findings are the plain screening's (none). (The turn's
+    last block goes from C357 back to C0, round the shaft: its row is looked at, pose by pose.)"""
+    made: list[int] = []
+
+    def counted(part, tips, axes, *a, **k):
+        out = part_solids(part, tips, axes, *a, **k)
+        made.append(len(out))
+        return out
+
+    monkeypatch.setattr(simulate_module, "part_solids", counted)
+    text = HEAD + FIRST_TURN.replace("N170 G1 X9\n", "") + SECOND_TURN[SECOND_TURN.index("N230"):]
+    sim, _, _, _ = _run(tmp_path, text, checks=True)
+    assert sim.findings == [] and sum(made) == 0
+    # the plunge at X = 9 puts the shank into the rim: its rows get solids, and are found
+    sim, _, _, _ = _run(tmp_path, HEAD + PLUNGE + SECOND_TURN, checks=True)
+    assert sum(made) > 0 and any(f.kind == "holder_collision" for f in sim.findings)
+    # a rapid: apart only beyond the clearance (the Ø40 cutter's rim 1.5 mm off the blank)
+    tool = load_tools(POLYGON_TOOLS).lookup("GLOD D40")
+    stock = Stock.from_spec("cylinder:d=30,l=60")
+    cutter = [Part("cutter", 0.0, tool.cutting_length, tool.radius)]
+    tips, axes = np.array([[16.5, 0.0, -10.0]]), np.array([[1.0, 0.0, 0.0]])
+    for gap, apart in ((1.0, True), (2.0, False)):
+        got = simulate_module._apart(stock.blank_planes(), cutter, tips, axes, [(0, 1)], np.ones(1, bool),
+                                     gap)
+        assert got[0, 0] == apart
+
 
 def test_part_solids_of_a_turning_path_are_the_placed_prisms():
     """A turning step places the part at its poses (each once); a straight step is the hull

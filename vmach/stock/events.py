@@ -9,7 +9,10 @@
 
 Checking every move against the evolving stock would cost a boolean per move, so the checks are
 screened in conservative steps: bounding boxes (:func:`cylinder_boxes`) pick the moves whose
-rapid cutter or shank/holder could reach material at all; their solids are met with the blank;
+rapid cutter or shank/holder could reach material at all; of those, the ones whose cylinders
+lie wholly beyond one face plane of a convex blank (:func:`cylinders_beyond`, exact for a
+cylinder) are dropped before any solid is made — a rapid only when it lies beyond by more than
+the near-miss clearance; the solids left are met with the blank;
 then, per chunk of moves, the parts are met with the stock as it is *before* the chunk (one
 small boolean per solid: their union would cost more, they overlap). Material only ever
 decreases, so a part that misses that stock misses it during the chunk; only a chunk with a
@@ -55,6 +58,18 @@ def cylinder_boxes(tips: np.ndarray, axes: np.ndarray, z0: float, z1: float, rad
     return np.stack([lo, hi], axis=1)
 
 
+def cylinders_beyond(planes: np.ndarray, tips: np.ndarray, axes: np.ndarray, z0: float, z1: float,
+                     radius: float) -> np.ndarray:
+    """(n, f) float, mm: how far a cylinder (axis from z0 to z1 above the tip, ``radius``) at
+    each pose (tips, axes (n, 3)) lies beyond each plane (f, 4: unit normal, offset) — the least
+    signed distance n·x − d over the cylinder, exact. A positive entry: that plane parts the
+    cylinder (and the prism inscribed in it) from everything behind it."""
+    a = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+    na = a @ planes[:, :3].T
+    base = tips @ planes[:, :3].T - planes[:, 3]
+    return base + np.minimum(z0 * na, z1 * na) - radius * np.sqrt(np.clip(1.0 - na * na, 0.0, 1.0))
+
+
 def overlaps(boxes: np.ndarray, box: np.ndarray) -> np.ndarray:
     """(n,) bool: boxes (n, 2, 3) that meet ``box`` (2, 3)."""
     return np.all(boxes[:, 0] <= box[1], axis=1) & np.all(boxes[:, 1] >= box[0], axis=1)
@@ -72,23 +87,33 @@ def _ring(part: Part, chord: float) -> np.ndarray:
                       np.column_stack([c, np.full(segments, part.z1)])])
 
 
-def part_solids(part: Part, tips: np.ndarray, axes: np.ndarray, chord: float = 0.005) -> list:
+def part_solids(part: Part, tips: np.ndarray, axes: np.ndarray, chord: float = 0.005,
+                planes: np.ndarray | None = None) -> list:
     """Solids the part occupies along a path of poses: the hull of consecutive poses when the
     axis does not turn (exact sweep), else the part placed at each pose of a turning step
     (each pose once: the prism made once and moved there). The part is an inscribed prism
     (``chord`` mm inside the true cylinder), so only overlaps deeper than ``chord`` can be
-    reported."""
+    reported. ``planes`` (f, 4): solids that lie wholly beyond one of them are left out (the
+    face planes of a convex blank: those solids meet no stock cut from it)."""
     pts = _ring(part, chord)
     fr = frames(tips, axes)
     placed = place(pts, fr)
-    if len(tips) == 1:
-        return [engine.hull(placed[0])]
     a = axes / np.linalg.norm(axes, axis=1, keepdims=True)
+    keep = np.ones(len(tips), bool)          # poses not beyond a plane
+    if planes is not None:
+        beyond = cylinders_beyond(planes, tips, a, part.z0, part.z1, part.radius)    # (n, f)
+        keep = beyond.max(axis=1) <= 1e-6
+    if len(tips) == 1:
+        return [engine.hull(placed[0])] if keep[0] else []
     same = np.all(np.isclose(a[:-1], a[1:], rtol=0.0, atol=1e-12), axis=1)
-    out = [engine.hull(np.concatenate([placed[i], placed[i + 1]])) for i in np.nonzero(same)[0]]
+    steps = same.copy()
+    if planes is not None:
+        steps &= np.minimum(beyond[:-1], beyond[1:]).max(axis=1) <= 1e-6
+    out = [engine.hull(np.concatenate([placed[i], placed[i + 1]])) for i in np.nonzero(steps)[0]]
     turning = np.zeros(len(tips), bool)
     turning[:-1] |= ~same
     turning[1:] |= ~same
+    turning &= keep
     if turning.any():
         prism = engine.hull(pts)
         out += [engine.transform(prism, fr[k]) for k in np.nonzero(turning)[0]]

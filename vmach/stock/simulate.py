@@ -24,7 +24,15 @@ import numpy as np
 from vmach.findings import Finding, warning
 from vmach.motion.table import TRAVERSE
 from vmach.stock import engine
-from vmach.stock.events import body_parts, cylinder_boxes, overlap_volume, overlaps, part_solids
+from vmach.stock.events import (
+    Part,
+    body_parts,
+    cylinder_boxes,
+    cylinders_beyond,
+    overlap_volume,
+    overlaps,
+    part_solids,
+)
 from vmach.stock.stock import Stock
 from vmach.stock.sweep import rotary_substeps, scallop_bound
 from vmach.tol import tol
@@ -210,6 +218,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
         row_lo = np.minimum(np.minimum.reduceat(lo, first, axis=0), lo[last])
         row_hi = np.maximum(np.maximum.reduceat(hi, first, axis=0), hi[last])
         part_hit = overlaps(np.stack([row_lo, row_hi], axis=1), blank)
+    planes = stock.blank_planes()
     rapid = table.kind[a:b] == TRAVERSE
     held = [None, None]             # poses [first, last + 1) of chunks not yet cut: one path
 
@@ -226,17 +235,27 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
         here = stock.bounds
         probes: dict = {}
         near: dict = {}                  # rapids within the clearance of the stock's box
+        spans = [span[j] for j in rows]
+        apart = _apart(planes, parts, tips, ax, spans, part_hit[c0 : c0 + CHUNK])
+        # a rapid whose cutter lies farther than the clearance beyond a face of the blank
+        # neither cuts nor passes close
+        clear = _apart(planes, [Part("cutter", 0.0, tool.cutting_length, tool.radius)], tips, ax, spans,
+                       rapid[c0 : c0 + CHUNK], clearance)[:, 0]
         for j in rows:
             s, e = span[j]
-            if rapid[j]:
+            if rapid[j] and not clear[j - c0]:
                 box = np.stack([cut_boxes[s:e, 0].min(axis=0), cut_boxes[s:e, 1].max(axis=0)])
                 if overlaps(box[None], here)[0]:
                     probes[("rapid", j)] = stock.cutters(tool, tips[s:e], ax[s:e])
                 elif clearance > 0 and overlaps((box + [[-clearance], [clearance]])[None], here)[0]:
                     near[j] = stock.cutters(tool, tips[s:e], ax[s:e])
             if part_hit[j]:
-                for p in parts:
-                    q = part_solids(p, tips[s:e], ax[s:e])
+                for i, p in enumerate(parts):
+                    if apart[j - c0, i]:
+                        continue        # a face plane of the blank parts them: it meets no stock
+                    q = part_solids(p, tips[s:e], ax[s:e], planes=planes)
+                    if not q:
+                        continue
                     probes[(p.name, j)] = (q, [engine.bounds(x) for x in q])
         # a rapid whose cutter meets the blank may meet the stock; else, only one that comes
         # within the clearance of the stock as it is before the chunk (a superset of the stock
@@ -284,6 +303,24 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
                              clearance)
         stock.cut(tool, tips[s:e], ax[s:e], inside(s))
     release()
+
+
+def _apart(planes, parts: list, tips: np.ndarray, ax: np.ndarray, spans: list, hit: np.ndarray,
+           gap: float = 0.0) -> np.ndarray:
+    """(rows, parts) bool: rows (poses ``spans`` [s, e) each) whose part (a cylinder) — in
+    every pose, so in every solid swept between them, which lie in the hull of the poses —
+    lies wholly beyond one face plane of the convex blank, by more than ``gap`` mm (``planes``
+    (f, 4); None: not convex, nothing is apart). Only rows with ``hit`` are looked at."""
+    out = np.zeros((len(spans), len(parts)), bool)
+    todo = np.nonzero(hit)[0]
+    if planes is None or not parts or len(todo) == 0:
+        return out
+    idx = np.concatenate([np.arange(*spans[j]) for j in todo])
+    starts = np.cumsum([0] + [spans[j][1] - spans[j][0] for j in todo])[:-1]
+    for i, p in enumerate(parts):
+        beyond = cylinders_beyond(planes, tips[idx], ax[idx], p.z0, p.z1, p.radius)   # (poses, f)
+        out[todo, i] = np.minimum.reduceat(beyond, starts, axis=0).max(axis=1) > gap + 1e-6
+    return out
 
 
 def _around(probes: dict, here: np.ndarray, clearance: float) -> tuple[np.ndarray, np.ndarray]:

@@ -384,6 +384,12 @@ class Stock:
         planes = self._blank_planes
         return np.all(points @ planes[:, :3].T - planes[:, 3] < -1e-6, axis=1)
 
+    def blank_planes(self) -> np.ndarray | None:
+        """(f, 4) float: the face planes (unit outward normal, offset; mm) of a convex blank, or
+        None when the blank is not convex."""
+        self._blank_hull()
+        return self._blank_planes if self._blank_convex else None
+
     def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray,
               slides: np.ndarray):
         """Candidate fan runs over the ``rotary`` steps (n-1,) bool of a path (tips, unit
