@@ -234,13 +234,14 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
     spec = report.stock_spec
     if spec and library is not None:
         with clock("stock"):
-            from vmach.stock import Stock
+            from vmach.stock import Stock, engine
             from vmach.stock.simulate import simulate
 
             acc = ACCURACY[report.accuracy]
             stock = Stock.from_spec(spec, progress=not options.quiet, chord=acc.tool_chord,
                                     cusp=acc.sweep_cusp)
             sim = simulate(table, model, library, stock, checks=True, clearance=options.clearance)
+            engine.check(stock.solid)      # the last queued cutters subtracted: the stock's work
             report.part = stock
             report.sim = sim
             # tools missing from the library are already `unknown_tool` errors
