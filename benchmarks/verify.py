@@ -3,7 +3,7 @@ polygon-shaft program split as intended (../shared/reference) — or our fixture
 reference is absent — on models/turnmill.toml with the fixture tools, a Ø60 blank and the P3G-50
 profile check between z = -35 and -5.
 
-    python benchmarks/verify.py [--program FILE] [--no-images]
+    python benchmarks/verify.py [--program FILE] [--no-images] [--accuracy fine]
 
 Each run happens in a child process so that its peak resident memory (ru_maxrss) is its own.
 """
@@ -42,11 +42,11 @@ def _program(directory: Path, given: str | None) -> Path:
     return ROOT / "fixtures" / "polygon_shaft" / "POLY50.MPF"
 
 
-def _child(program: str, out: str, images: bool, queue) -> None:
+def _child(program: str, out: str, images: bool, accuracy: str | None, queue) -> None:
     from vmach.verify import VerifyOptions, verify
 
     t = time.perf_counter()
-    report = verify(program, VerifyOptions(out=Path(out), images=images))
+    report = verify(program, VerifyOptions(out=Path(out), images=images, accuracy=accuracy))
     wall = time.perf_counter() - t
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     queue.put(
@@ -66,18 +66,20 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--program")
     ap.add_argument("--no-images", action="store_true")
+    ap.add_argument("--accuracy", choices=("standard", "fine"), help="as vmach verify --accuracy")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         program = _program(Path(tmp), args.program)
         q: mp.Queue = mp.get_context("spawn").Queue()
         p = mp.get_context("spawn").Process(
-            target=_child, args=(str(program), tmp + "/out", not args.no_images, q)
+            target=_child, args=(str(program), tmp + "/out", not args.no_images, args.accuracy, q)
         )
         p.start()
         wall, peak, timings, moves, errors, profile, cycle = q.get()
         p.join()
     print(
-        f"vmach verify {program.name}: {moves} moves, {errors} error(s), wall {wall:.1f} s, "
+        f"vmach verify {program.name} ({args.accuracy or 'standard'} accuracy): {moves} moves, "
+        f"{errors} error(s), wall {wall:.1f} s, "
         f"peak memory {peak:.0f} MB"
     )
     for stage, seconds in timings.items():

@@ -10,7 +10,7 @@ import pytest
 
 from tests.stock.conftest import turnmill
 from vmach.checks.polygon import p3g
-from vmach.checks.profile import check_profile, densify, stations
+from vmach.checks.profile import check_profile, densify, golden_min, stations
 from vmach.errors import InputError
 from vmach.stock import Stock
 from vmach.tooling import Tool
@@ -115,3 +115,18 @@ def test_stations_and_densify():
     d = densify(square, 0.1)
     gaps = np.linalg.norm(np.diff(np.vstack([d, d[:1]]), axis=0), axis=1)
     assert len(d) == 40 and np.all(gaps <= 0.1 + 1e-12)
+
+
+@pytest.mark.parametrize("where", [0.3137, -0.999, 0.99995])
+def test_golden_min_finds_the_minimum_within_its_tolerance(where):
+    calls = []
+
+    def f(x):
+        calls.append(x)
+        return (x - where) ** 2 + 0.1 * (x - where) ** 4
+
+    got = golden_min(f, -1.0, 1.0, 1e-6)
+    assert abs(got - where) <= 1e-6
+    assert len(calls) <= 2 + math.ceil(math.log(2.0 / 1e-6) / math.log(1.0 / 0.618))
+    # the minimum at an end of the bracket: the search runs to that end
+    assert golden_min(lambda x: x, 2.0, 3.0, 1e-6) == pytest.approx(2.0, abs=1e-6)

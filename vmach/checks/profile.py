@@ -20,7 +20,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from vmach.checks.iso286 import limits
 from vmach.checks.polygon import Polygon
@@ -169,12 +168,30 @@ def best_phase(profile: Polygon, samples: Sequence[np.ndarray]) -> float:
     cost = [float(np.mean(profile.signed_distance(sub, ph, grid=180, newton=2) ** 2)) for ph in grid]
     k = int(np.argmin(cost))
     step = grid[1] - grid[0]
-    res = minimize_scalar(
-        lambda ph: float(np.mean(profile.signed_distance(fine, ph, grid=360) ** 2)),
-        bounds=(grid[k] - step, grid[k] + step), method="bounded",
-        options={"xatol": 1e-7},
-    )
-    return float(res.x) % period
+    best = golden_min(lambda ph: float(np.mean(profile.signed_distance(fine, ph, grid=360) ** 2)),
+                      grid[k] - step, grid[k] + step, 1e-6)
+    return best % period
+
+
+GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
+
+
+def golden_min(f: Callable[[float], float], a: float, b: float, xtol: float) -> float:
+    """The minimum of ``f`` on [a, b] to within ``xtol`` (golden-section search: one new value
+    per step, the bracket shrinks by 0.618; for a function with one minimum in the bracket).
+    (scipy's minimize_scalar would do, but importing scipy.optimize costs a CLI run 0.8 s.)"""
+    c, d = b - GOLDEN * (b - a), a + GOLDEN * (b - a)
+    fc, fd = f(c), f(d)
+    while b - a > xtol:
+        if fc <= fd:
+            b, d, fd = d, c, fc
+            c = b - GOLDEN * (b - a)
+            fc = f(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + GOLDEN * (b - a)
+            fd = f(d)
+    return c if fc <= fd else d
 
 
 def check_profile(section: Callable[[float], Sequence[np.ndarray]], profile: Polygon,
