@@ -112,3 +112,14 @@ def test_turret_against_chuck_is_a_machine_collision(tmp_path):
     # machining the polygon end stays clear of it
     t = _moves(tmp_path, "G0 X40 Y0 Z10\nG1 X26 Z-20 F500\nG1 C1=360\nG0 X150\n")
     assert machine_collisions(MODEL, t) == []
+
+
+def test_rigid_inverse_is_the_matrix_inverse_of_rigid_frames():
+    from vmach.checks.collisions import rigid_inverse
+
+    rng = np.random.default_rng(7)
+    q, _ = np.linalg.qr(rng.normal(size=(50, 3, 3)))
+    m = np.zeros((50, 4, 4))
+    m[:, :3, :3], m[:, :3, 3], m[:, 3, 3] = q, rng.normal(scale=300.0, size=(50, 3)), 1.0
+    assert np.allclose(rigid_inverse(m), np.linalg.inv(m), atol=1e-12)
+    assert np.allclose(rigid_inverse(m[7]) @ m[7], np.eye(4), atol=1e-12)

@@ -117,6 +117,18 @@ def primitive_points(geom, step: float) -> np.ndarray:
     return np.column_stack([p, np.ones(len(p))])
 
 
+def rigid_inverse(m: np.ndarray) -> np.ndarray:
+    """Inverses (..., 4, 4) of rigid transforms (rotation | translation, mm): [Rᵀ | −Rᵀ·t],
+    without a general matrix inverse (the check's frames are rigid: a chain of rotations and
+    translations)."""
+    out = np.zeros_like(m)
+    rt = np.swapaxes(m[..., :3, :3], -1, -2)
+    out[..., :3, :3] = rt
+    out[..., :3, 3] = -np.einsum("...ij,...j->...i", rt, m[..., :3, 3])
+    out[..., 3, 3] = 1.0
+    return out
+
+
 def sample_moves(
     table: MoveTable, rows: np.ndarray, reach: float, step: float
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -178,14 +190,14 @@ def fixture_collisions(
         rapid = table.kind[owner] == TRAVERSE
         for g in geoms:
             g2base = frames[g.link] @ g.origin.matrix
-            rel = np.linalg.inv(tool2base) @ g2base
+            rel = rigid_inverse(tool2base) @ g2base
             if np.abs(rel - rel[:1]).max() < 1e-9:
                 continue  # carried with the tool (turret, tool carrier): never hit by it
             ob = np.einsum("sij,pj->spi", g2base, _bounds(g))[..., :3]
             o_min, o_max = ob.min(axis=1) - clearance, ob.max(axis=1) + clearance
             near = np.all((t_min <= o_max) & (t_max >= o_min), axis=1)
             for s in np.flatnonzero(near):
-                local = np.linalg.inv(g2base[s]) @ tool2base[s]
+                local = rigid_inverse(g2base[s]) @ tool2base[s]
                 p = (pts @ local.T)[:, :3]
                 dist = signed_distance(p, g)
                 dmin = float(dist.min())
@@ -230,7 +242,7 @@ def machine_collisions(model, table: MoveTable, step: float = 5.0) -> list[Findi
     placed = {g.name: frames[g.link] @ g.origin.matrix for g in geoms}
     carried = []
     for g in geoms:
-        rel = np.linalg.inv(tool2base) @ placed[g.name]
+        rel = rigid_inverse(tool2base) @ placed[g.name]
         carried.append(bool(np.abs(rel - rel[:1]).max() < 1e-9))
     movers = [g for g, c in zip(geoms, carried, strict=True) if c]
     fixed = [g for g, c in zip(geoms, carried, strict=True) if not c]
@@ -244,7 +256,7 @@ def machine_collisions(model, table: MoveTable, step: float = 5.0) -> list[Findi
                 (a_box.min(axis=1) <= b_box.max(axis=1)) & (a_box.max(axis=1) >= b_box.min(axis=1)), axis=1
             )
             for s in np.flatnonzero(near):
-                local = np.linalg.inv(placed[b.name][s]) @ placed[a.name][s]
+                local = rigid_inverse(placed[b.name][s]) @ placed[a.name][s]
                 dmin = float(signed_distance((pts @ local.T)[:, :3], b).min())
                 if dmin >= 0:
                     continue
