@@ -169,12 +169,12 @@ def test_slab_boxes_hold_the_stock_and_share_no_plane():
     slabs = Slabs.from_mesh(v, f)
     outer = np.array([[-30.0, -30.0, -30.0], [30.0, 30.0, 30.0]])
     zlo = np.sort(rng.uniform(-20.0, 15.0, 1000))
-    zhi = zlo + rng.uniform(0.5, 5.0, 1000)
+    zhi = zlo + np.where(np.arange(1000) % 2, rng.uniform(0.5, 5.0, 1000), rng.uniform(5.0, 40.0, 1000))
     box = slabs.boxes(zlo, zhi, outer)
     tri = v[f]
     t0 = np.floor((tri[:, :, 2].min(axis=1) - slabs.z0) / slabs.step)      # each triangle's bins
     t1 = np.floor((tri[:, :, 2].max(axis=1) - slabs.z0) / slabs.step)
-    for k in range(0, 1000, 97):
+    for k in range(0, 1000, 23):
         # the triangles that meet the cutter's Z range: their extent, grown by the margin, is in
         meet = (tri[:, :, 2].max(axis=1) >= zlo[k]) & (tri[:, :, 2].min(axis=1) <= zhi[k])
         lo, hi = tri[meet][:, :, :2].min(axis=(0, 1)), tri[meet][:, :, :2].max(axis=(0, 1))
@@ -190,6 +190,37 @@ def test_slab_boxes_hold_the_stock_and_share_no_plane():
             planes = box[:, side, axis]
             assert len(np.unique(planes)) == len(planes)
     assert np.array_equal(slabs.boxes(zlo[:10], zhi[:10], outer), box[:10])
+
+
+def test_slab_boxes_take_the_extent_of_every_bin_their_range_meets():
+    """Ranges over 1 to 60 bins of a surface whose extent changes with Z (a cone, lop-sided):
+    each box is its bins' extent, taken bin by bin, grown and rounded (slabs.py)."""
+    from vmach.stock.slabs import jitter
+
+    t = np.linspace(0.0, 2 * np.pi, 48, endpoint=False)
+    z = np.linspace(-60.0, 0.0, 241)
+    r = 5.0 + 0.3 * (z + 60.0) + 4.0 * np.sin(z / 7.0) ** 2
+    v = np.concatenate([np.column_stack([rk * np.cos(t) + 0.1 * zk, rk * np.sin(t), np.full(48, zk)])
+                        for rk, zk in zip(r, z, strict=True)])
+    i, j = np.meshgrid(np.arange(240), np.arange(48), indexing="ij")
+    a, b = (i * 48 + j).ravel(), (i * 48 + (j + 1) % 48).ravel()
+    f = np.concatenate([np.column_stack([a, b, a + 48]), np.column_stack([b, b + 48, a + 48])])
+    slabs = Slabs.from_mesh(v, f)
+    outer = np.array([[-100.0] * 3, [100.0] * 3])
+    rng = np.random.default_rng(5)
+    zlo = rng.uniform(-62.0, 2.0, 400)
+    zhi = zlo + rng.uniform(-0.5, 60.0, 400)
+    box = slabs.boxes(zlo, zhi, outer)
+    nb = len(slabs.lo)
+    b0 = np.clip(np.floor((zlo - slabs.z0) / slabs.step).astype(int), 0, nb - 1)
+    b1 = np.maximum(np.clip(np.floor((zhi - slabs.z0) / slabs.step).astype(int), 0, nb - 1), b0)
+    u = jitter(zlo, zhi)
+    for k in range(len(zlo)):
+        lo = slabs.lo[b0[k] : b1[k] + 1].min(axis=0)
+        hi = slabs.hi[b0[k] : b1[k] + 1].max(axis=0)
+        want_lo = np.floor((lo - tol.trim_margin) / GRID) * GRID - u[k, :2] * JITTER
+        want_hi = np.ceil((hi + tol.trim_margin) / GRID) * GRID + u[k, 3:5] * JITTER
+        assert np.array_equal(box[k, 0, :2], want_lo) and np.array_equal(box[k, 1, :2], want_hi)
 
 
 def test_copies_clipped_each_to_its_own_box_are_clipped_as_one_by_one(d25_shape):

@@ -23,6 +23,7 @@ makes the box larger. Lengths mm.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -81,6 +82,25 @@ class Slabs:
         ok &= np.all((p[..., :2] >= lo) & (p[..., :2] <= hi), axis=-1)
         return ok & (np.hypot(p[..., 0], p[..., 1]) <= self.rmax[b])
 
+    @cached_property
+    def _spans(self) -> tuple[np.ndarray, np.ndarray]:
+        """Sparse tables (levels, b, 2) of lo and hi: entry [j, i] is the min (max) over bins
+        i … i + 2^j − 1 (the bins beyond the last taken as empty)."""
+        nb = len(self.lo)
+        tab_lo, tab_hi = [self.lo], [self.hi]
+        j = 1
+        while (1 << j) <= nb:
+            h = 1 << (j - 1)
+            prev_lo, prev_hi = tab_lo[-1], tab_hi[-1]
+            nxt_lo = np.full_like(prev_lo, np.inf)
+            nxt_hi = np.full_like(prev_hi, -np.inf)
+            nxt_lo[: nb - h] = np.minimum(prev_lo[: nb - h], prev_lo[h:])
+            nxt_hi[: nb - h] = np.maximum(prev_hi[: nb - h], prev_hi[h:])
+            tab_lo.append(nxt_lo)
+            tab_hi.append(nxt_hi)
+            j += 1
+        return np.stack(tab_lo), np.stack(tab_hi)
+
     def boxes(self, zlo: np.ndarray, zhi: np.ndarray, outer: np.ndarray) -> np.ndarray:
         """Boxes (k, 2, 3) for Z ranges [zlo, zhi] (k,): the extent of the bins they meet,
         grown by the trim margin, rounded outward to ``GRID`` within ``outer`` (2, 3) (the box
@@ -90,15 +110,13 @@ class Slabs:
         zhi = np.asarray(zhi, dtype=float)
         nb = len(self.lo)
         b0 = np.clip(np.floor((zlo - self.z0) / self.step).astype(int), 0, nb - 1)
-        b1 = np.clip(np.floor((zhi - self.z0) / self.step).astype(int), 0, nb - 1)
-        # running min/max over bin ranges: small ranges, so a loop over the widest span
-        lo = self.lo[b0].copy()
-        hi = self.hi[b0].copy()
-        for k in range(1, int((b1 - b0).max(initial=0)) + 1):
-            more = b0 + k <= b1
-            idx = np.minimum(b0 + k, nb - 1)
-            lo[more] = np.minimum(lo[more], self.lo[idx[more]])
-            hi[more] = np.maximum(hi[more], self.hi[idx[more]])
+        b1 = np.maximum(np.clip(np.floor((zhi - self.z0) / self.step).astype(int), 0, nb - 1), b0)
+        # min/max over the bin ranges: two overlapping power-of-two spans of the sparse tables
+        level = np.floor(np.log2(b1 - b0 + 1)).astype(int)
+        last = b1 - (1 << level) + 1
+        tab_lo, tab_hi = self._spans
+        lo = np.minimum(tab_lo[level, b0], tab_lo[level, last])
+        hi = np.maximum(tab_hi[level, b0], tab_hi[level, last])
         m = tol.trim_margin
         out = np.empty((len(zlo), 2, 3))
         out[:, 0, :2] = np.maximum(np.floor((lo - m) / GRID) * GRID, outer[0, :2])
