@@ -172,6 +172,10 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
     report = Report(str(program), setup)
     clock = _Clock(report)
     t0 = time.perf_counter()
+    if options.images and options.out is not None:
+        from vmach.report.render import preload
+
+        preload()                  # VTK's import overlaps the stages before the pictures
 
     with clock("setup"):
         from vmach.machine import load_model

@@ -104,3 +104,13 @@ def test_a_different_picture_is_caught(gl, tmp_path):
     render.chart_png(b, [(c, np.cos(np.radians(c)), "s", "b")], "x", "y")
     assert not render.images_equal(a, b, THRESHOLD)[0]
     assert render.images_equal(a, a, THRESHOLD) == (True, 0.0)
+
+
+def test_preload_imports_pyvista_in_the_background():
+    """verify starts it before the stock stage: the pictures then find VTK imported."""
+    import sys
+
+    thread = render.preload()
+    assert thread.daemon and thread.name == "vmach-preload-pyvista"
+    thread.join(timeout=120)
+    assert not thread.is_alive() and "pyvista" in sys.modules

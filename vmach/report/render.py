@@ -6,6 +6,7 @@ plain numpy arrays and writes a PNG.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -19,13 +20,36 @@ BACKGROUND = "white"
 FOREGROUND = "black"
 
 
-def _plotter(size: tuple[int, int] = WINDOW):
+def _import():
+    """pyvista, imported the way every picture needs it (1–3 s the first time: VTK)."""
     import os
 
     if not os.environ.get("DISPLAY"):
         # no X server: go straight to EGL (Mesa) instead of trying X first and warning
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista as pv
+
+    return pv
+
+
+def preload() -> threading.Thread:
+    """Import pyvista in a background thread, so that the import overlaps other work (the
+    stock's booleans release the GIL) instead of adding to the pictures' time. An import
+    error is left for the pictures to raise."""
+
+    def run() -> None:
+        try:
+            _import()
+        except Exception:  # noqa: BLE001 - reported when the pictures import it again
+            pass
+
+    thread = threading.Thread(target=run, name="vmach-preload-pyvista", daemon=True)
+    thread.start()
+    return thread
+
+
+def _plotter(size: tuple[int, int] = WINDOW):
+    pv = _import()
 
     pv.OFF_SCREEN = True
     plotter = pv.Plotter(off_screen=True, window_size=list(size))
