@@ -123,3 +123,18 @@ def test_rigid_inverse_is_the_matrix_inverse_of_rigid_frames():
     m[:, :3, :3], m[:, :3, 3], m[:, 3, 3] = q, rng.normal(scale=300.0, size=(50, 3)), 1.0
     assert np.allclose(rigid_inverse(m), np.linalg.inv(m), atol=1e-12)
     assert np.allclose(rigid_inverse(m[7]) @ m[7], np.eye(4), atol=1e-12)
+
+
+def test_the_balls_that_screen_samples_hold_every_surface_point():
+    """fixture_collisions skips a sample when every ball of sphere_cover lies farther than the
+    clearance from the obstacle: sound only if the balls hold the points it would measure."""
+    from vmach.checks.collisions import Cylinder, sphere_cover, surface_points
+
+    parts = [Cylinder("cutter", 0.0, 5.5, 20.0), Cylinder("shank", 5.5, 45.0, 18.0),
+             Cylinder("holder", 45.0, 110.0, 31.5), Cylinder("pin", 110.0, 111.0, 0.5)]
+    centres, radii = sphere_cover(parts)
+    pts, _ = surface_points(parts, 0.5)
+    d = np.linalg.norm(pts[:, None, :3] - centres[None, :, :3], axis=2) - radii[None, :]
+    assert d.min(axis=1).max() <= 1e-9
+    # and no ball reaches farther than 1.12 of its cylinder's radius from the axis
+    assert np.all(radii <= np.repeat([20.0, 18.0, 31.5, 0.5], [1, 3, 3, 2]) * 1.12)

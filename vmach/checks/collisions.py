@@ -43,6 +43,22 @@ def tool_cylinders(tool) -> list[Cylinder]:
     return [Cylinder(*part) for part in tool.stack()]
 
 
+def sphere_cover(parts: list[Cylinder]) -> tuple[np.ndarray, np.ndarray]:
+    """Balls that hold the cylinders: each cut along its axis into pieces no longer than its
+    radius, one ball around each piece. Returns centres (k, 4) homogeneous, tool frame, and
+    radii (k,) mm. A point farther than d from every ball's surface is farther than d from
+    the cylinders (and from their surface points)."""
+    centres, radii = [], []
+    for c in parts:
+        length = c.z1 - c.z0
+        n = max(1, math.ceil(length / max(c.radius, 1e-9)))
+        half = length / (2 * n)
+        for i in range(n):
+            centres.append([0.0, 0.0, c.z0 + (2 * i + 1) * half, 1.0])
+            radii.append(math.hypot(c.radius, half))
+    return np.array(centres), np.array(radii)
+
+
 def surface_points(parts: list[Cylinder], step: float) -> tuple[np.ndarray, np.ndarray]:
     """Points on the cylinders' mantles and end discs, spaced at most ``step`` mm.
 
@@ -71,16 +87,16 @@ def surface_points(parts: list[Cylinder], step: float) -> tuple[np.ndarray, np.n
 
 
 def signed_distance(points: np.ndarray, geom) -> np.ndarray:
-    """Signed distance (mm; < 0 inside) of (m, 3) points given in the obstacle's own frame."""
+    """Signed distance (mm; < 0 inside) of (..., 3) points given in the obstacle's own frame."""
     if geom.shape == "box":
         h = np.asarray(geom.size, float) / 2
         q = np.abs(points) - h
-        outside = np.linalg.norm(np.maximum(q, 0.0), axis=1)
-        inside = np.minimum(q.max(axis=1), 0.0)
+        outside = np.linalg.norm(np.maximum(q, 0.0), axis=-1)
+        inside = np.minimum(q.max(axis=-1), 0.0)
         return outside + inside
     r, h = float(geom.radius), float(geom.length) / 2
-    d_r = np.hypot(points[:, 0], points[:, 1]) - r
-    d_z = np.abs(points[:, 2]) - h
+    d_r = np.hypot(points[..., 0], points[..., 1]) - r
+    d_z = np.abs(points[..., 2]) - h
     outside = np.hypot(np.maximum(d_r, 0.0), np.maximum(d_z, 0.0))
     inside = np.minimum(np.maximum(d_r, d_z), 0.0)
     return outside + inside
@@ -169,6 +185,7 @@ def fixture_collisions(
         if len(rows) == 0:
             continue
         pts, part_of = surface_points(parts, step)
+        ball_c, ball_r = sphere_cover(parts)
         top = max(c.z1 for c in parts)
         reach = 600.0 + top
         q_table, owner = sample_moves(table, rows, reach, step)
@@ -195,8 +212,12 @@ def fixture_collisions(
                 continue  # carried with the tool (turret, tool carrier): never hit by it
             ob = np.einsum("sij,pj->spi", g2base, _bounds(g))[..., :3]
             o_min, o_max = ob.min(axis=1) - clearance, ob.max(axis=1) + clearance
-            near = np.all((t_min <= o_max) & (t_max >= o_min), axis=1)
-            for s in np.flatnonzero(near):
+            near = np.flatnonzero(np.all((t_min <= o_max) & (t_max >= o_min), axis=1))
+            # samples whose balls all lie farther than the clearance need no point-by-point look
+            local = rigid_inverse(g2base[near]) @ tool2base[near]                 # (n, 4, 4)
+            gap = signed_distance(np.einsum("sij,kj->ski", local[:, :3], ball_c), g) - ball_r
+            near = near[gap.min(axis=1, initial=np.inf) <= clearance]
+            for s in near:
                 local = rigid_inverse(g2base[s]) @ tool2base[s]
                 p = (pts @ local.T)[:, :3]
                 dist = signed_distance(p, g)
