@@ -40,6 +40,7 @@ def preload() -> threading.Thread:
     def run() -> None:
         try:
             _import()
+            import pyvista.plotting  # noqa: F401 - pyvista loads it (and matplotlib) lazily
         except Exception:  # noqa: BLE001 - reported when the pictures import it again
             pass
 
