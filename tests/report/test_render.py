@@ -106,11 +106,23 @@ def test_a_different_picture_is_caught(gl, tmp_path):
     assert render.images_equal(a, a, THRESHOLD) == (True, 0.0)
 
 
-def test_preload_imports_pyvista_in_the_background():
-    """verify starts it before the stock stage: the pictures then find VTK imported."""
+def test_preload_imports_pyvista_in_the_background(gl, tmp_path):
+    """verify starts it before the stock stage; a picture asked for while it still runs waits
+    for it (pyvista loads its parts lazily: a half-done import showed a module without
+    ``Plotter``). In a fresh interpreter, where nothing has imported pyvista yet."""
+    import subprocess
     import sys
 
-    thread = render.preload()
-    assert thread.daemon and thread.name == "vmach-preload-pyvista"
-    thread.join(timeout=120)
-    assert not thread.is_alive() and "pyvista" in sys.modules
+    out = tmp_path / "early.png"
+    code = (
+        "import sys\n"
+        "import numpy as np\n"
+        "from vmach.report import render\n"
+        "thread = render.preload()\n"
+        "assert thread.daemon and thread.name == 'vmach-preload-pyvista'\n"
+        f"render.toolpath_png({str(out)!r}, np.array([[[0, 0, 0], [10, 5, 2.0]]]), np.array([1]))\n"
+        "assert not thread.is_alive() and 'pyvista.plotting' in sys.modules\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert out.stat().st_size > 1000

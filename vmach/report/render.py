@@ -20,9 +20,18 @@ BACKGROUND = "white"
 FOREGROUND = "black"
 
 
+_preloading: threading.Thread | None = None   # the background import, while it may run
+
+
 def _import():
-    """pyvista, imported the way every picture needs it (1–3 s the first time: VTK)."""
+    """pyvista, imported the way every picture needs it (1–3 s the first time: VTK) — after
+    the background import of :func:`preload` has finished (pyvista loads its parts lazily:
+    a half-done import in another thread would show a module without them)."""
     import os
+
+    pending = _preloading
+    if pending is not None and pending is not threading.current_thread():
+        pending.join()
 
     if not os.environ.get("DISPLAY"):
         # no X server: go straight to EGL (Mesa) instead of trying X first and warning
@@ -44,7 +53,9 @@ def preload() -> threading.Thread:
         except Exception:  # noqa: BLE001 - reported when the pictures import it again
             pass
 
+    global _preloading
     thread = threading.Thread(target=run, name="vmach-preload-pyvista", daemon=True)
+    _preloading = thread
     thread.start()
     return thread
 
@@ -253,7 +264,5 @@ def scene_png(
 def images_equal(a: str | Path, b: str | Path, threshold: float) -> tuple[bool, float]:
     """Image regression: pyvista's mean pixel error between two PNGs, and whether it is within
     ``threshold``."""
-    import pyvista as pv
-
-    err = float(pv.compare_images(str(a), str(b)))
+    err = float(_import().compare_images(str(a), str(b)))
     return err <= threshold, err
