@@ -216,10 +216,9 @@ def fixture_collisions(
             # samples whose balls all lie farther than the clearance need no point-by-point look
             local = rigid_inverse(g2base[near]) @ tool2base[near]                 # (n, 4, 4)
             gap = signed_distance(np.einsum("sij,kj->ski", local[:, :3], ball_c), g) - ball_r
-            near = near[gap.min(axis=1, initial=np.inf) <= clearance]
-            for s in near:
-                local = rigid_inverse(g2base[s]) @ tool2base[s]
-                p = (pts @ local.T)[:, :3]
+            close = gap.min(axis=1, initial=np.inf) <= clearance
+            for s, tool2g in zip(near[close], local[close], strict=True):
+                p = (pts @ tool2g.T)[:, :3]
                 dist = signed_distance(p, g)
                 dmin = float(dist.min())
                 row = int(owner[s])
