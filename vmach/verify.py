@@ -172,10 +172,6 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
     report = Report(str(program), setup)
     clock = _Clock(report)
     t0 = time.perf_counter()
-    if options.images and options.out is not None:
-        from vmach.report.render import preload
-
-        preload()                  # VTK's import overlaps the stages before the pictures
 
     with clock("setup"):
         from vmach.machine import load_model
@@ -240,6 +236,13 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         with clock("stock"):
             from vmach.stock import Stock, engine
             from vmach.stock.simulate import simulate
+
+            if options.images and options.out is not None:
+                from vmach.report.render import preload
+
+                # VTK's import overlaps the stock's booleans (started after this thread's own
+                # imports, so that the two threads do not import the same modules at once)
+                preload()
 
             acc = ACCURACY[report.accuracy]
             stock = Stock.from_spec(spec, progress=not options.quiet, chord=acc.tool_chord,
