@@ -20,6 +20,7 @@ from vmach.stock import Stock, engine
 from vmach.stock import simulate as simulate_module
 from vmach.stock.events import Part, cylinders_beyond, part_solids
 from vmach.stock.simulate import simulate
+from vmach.stock.sweep import scallop_bound
 from vmach.tooling import load_tools
 
 HEAD = """N10 G0 G53 X325 Y0 D0
@@ -131,6 +132,19 @@ N150 M30
     y = np.linspace(-np.sqrt(15**2 - 13.5**2), np.sqrt(15**2 - 13.5**2), 20001)
     area = np.trapezoid(np.sqrt(15**2 - y**2) - 13.5, y)
     assert hits[0].data["volume_mm3"] == pytest.approx(area * 36.0, rel=0.02)
+
+def test_the_scallop_bound_counts_only_rotary_steps_whose_cutter_may_reach_the_blank(tmp_path):
+    """A 3° turn at X = 12, Z = -10 is sampled in 1.5° steps; then the tool rises to Z = 25
+    (the Ø40 cutter's lowest point 5 mm above the end face) and C turns 100° there, in 2°
+    steps — with the tip still inside the blank's radius, but its cutter nowhere near the
+    blank: those steps make no surface, and the bound is the turn's."""
+    text = HEAD + "N100 G0 X12\nN110 G1 Z-10 F400\nN120 G1 C1=3\nN130 G0 Z25\nN140 G0 C1=103\n" \
+        "N150 G0 X40\nN160 M30\n"
+    for checks in (False, True):
+        sim, _, _, _ = _run(tmp_path, text, checks=checks)
+        assert sim.max_step_deg == pytest.approx(1.5)
+        assert sim.bound_mm == pytest.approx(scallop_bound(np.array([12.0]), np.array([1.5]))[0], rel=1e-6)
+
 
 def test_cylinders_beyond_is_the_least_distance_of_the_cylinder_beyond_a_plane():
     rng = np.random.default_rng(3)

@@ -101,6 +101,11 @@ def sample_rows(start: np.ndarray, end: np.ndarray, rotary: np.ndarray, fk,
     return np.vstack([start[:1], q]), k
 
 
+#: mm: how far a sampled rotary step's sweep may bulge beyond the boxes of its two ends (a
+#: point ρ from the rotation axis leaves its chord by ρ(1 − cos 1°) ≤ 1 mm for ρ ≤ 6.5 m)
+REACH_SLACK = 1.0
+
+
 def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_angle,
              step: float = tol.sweep_step, checks: bool = False,
              clearance: float = tol.near_miss) -> SimResult:
@@ -151,10 +156,15 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
         res.samples += len(q)
         if rotary.any() and len(q) > 1:
             # scallop bound over the rotary steps taken where the tip is inside the stock radius
+            # and the cutter may reach the blank at all (the box around its two ends, grown by
+            # REACH_SLACK for the arc between them, meets the blank's box)
             dq = np.abs(np.diff(q[:, rotary], axis=0)).max(axis=1)
             r = np.linalg.norm(pose.tip[:, :2], axis=1)
             r = np.maximum(r[:-1], r[1:])
-            near = (dq > 0) & (r <= r_stock)
+            ends = cylinder_boxes(pose.tip, pose.axis, 0.0, found.cutting_length, found.radius)
+            reach = np.stack([np.minimum(ends[:-1, 0], ends[1:, 0]) - REACH_SLACK,
+                              np.maximum(ends[:-1, 1], ends[1:, 1]) + REACH_SLACK], axis=1)
+            near = (dq > 0) & (r <= r_stock) & overlaps(reach, box)
             if near.any():
                 res.max_step_deg = max(res.max_step_deg, float(dq[near].max()))
                 res.bound_mm = max(res.bound_mm, float(scallop_bound(r[near], dq[near]).max()))
