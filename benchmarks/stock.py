@@ -41,6 +41,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
+
+from vmach.tol import ACCURACY  # noqa: E402
+
 REFERENCE = ROOT.parent / "shared" / "reference" / "polygon_shaft_thesis.mpf"
 TOOLS = ROOT / "fixtures" / "tools" / "polygon_shaft.toml"
 BEFORE = {"trim": False, "spread": 1, "chord": 0.002}   # the pipeline before the speed work
@@ -211,13 +214,9 @@ def main(argv=None) -> int:
                     help="the program (plain and checked) and 1k/4k helices only: no before/naive cases")
     ap.add_argument("--repeat", type=int, default=1,
                     help="runs per case; the fastest is printed, and every run's total")
-    ap.add_argument("--accuracy", default="standard",
-                    help="the program cases' preset, as vmach verify --accuracy (standard, fine)")
+    ap.add_argument("--accuracy", default="standard", choices=tuple(ACCURACY),
+                    help="the program cases' preset, as vmach verify --accuracy")
     args = ap.parse_args(argv)
-    from vmach.tol import ACCURACY
-
-    if args.accuracy not in ACCURACY:
-        ap.error(f"--accuracy: one of {', '.join(ACCURACY)}")
     acc = ACCURACY[args.accuracy]
     PRESET.update(chord=acc.tool_chord, cusp=acc.sweep_cusp)
     print(f"vmach stock removal benchmark ({args.accuracy} accuracy; 2-core figures in docs/stock.md)")

@@ -22,6 +22,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
+from vmach.tol import ACCURACY  # noqa: E402
+
 SETUP = """machine = "turnmill"
 tools = "{tools}"
 stock = "cylinder:d=60,l=100"
@@ -66,7 +68,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--program")
     ap.add_argument("--no-images", action="store_true")
-    ap.add_argument("--accuracy", choices=("standard", "fine"), help="as vmach verify --accuracy")
+    ap.add_argument("--accuracy", choices=tuple(ACCURACY), help="as vmach verify --accuracy")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         program = _program(Path(tmp), args.program)

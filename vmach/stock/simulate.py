@@ -229,6 +229,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
         row_hi = np.maximum(np.maximum.reduceat(hi, first, axis=0), hi[last])
         part_hit = overlaps(np.stack([row_lo, row_hi], axis=1), blank)
     planes = stock.blank_planes()
+    cutter = [Part("cutter", 0.0, tool.cutting_length, tool.radius)]   # as cut_boxes, for _apart
     rapid = table.kind[a:b] == TRAVERSE
     held = [None, None]             # poses [first, last + 1) of chunks not yet cut: one path
 
@@ -249,8 +250,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
         apart = _apart(planes, parts, tips, ax, spans, part_hit[c0 : c0 + CHUNK])
         # a rapid whose cutter lies farther than the clearance beyond a face of the blank
         # neither cuts nor passes close
-        clear = _apart(planes, [Part("cutter", 0.0, tool.cutting_length, tool.radius)], tips, ax, spans,
-                       rapid[c0 : c0 + CHUNK], clearance)[:, 0]
+        clear = _apart(planes, cutter, tips, ax, spans, rapid[c0 : c0 + CHUNK], clearance)[:, 0]
         for j in rows:
             s, e = span[j]
             if rapid[j] and not clear[j - c0]:

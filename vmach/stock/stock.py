@@ -377,11 +377,10 @@ class Stock:
         """(k,) bool: points (k, 3) that lie inside the blank, 1e-6 mm or more from its
         boundary — answered for a convex blank (a cylinder, a box); all False for another, whose
         callers must meet solids instead."""
-        self._blank_hull()
         points = np.asarray(points, dtype=float).reshape(-1, 3)
-        if not self._blank_convex:
+        planes = self.blank_planes()
+        if planes is None:
             return np.zeros(len(points), bool)
-        planes = self._blank_planes
         return np.all(points @ planes[:, :3].T - planes[:, 3] < -1e-6, axis=1)
 
     def blank_planes(self) -> np.ndarray | None:
