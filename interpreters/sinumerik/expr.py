@@ -83,6 +83,12 @@ BINARY_PRIORITY: dict[str, int] = {
 }
 PREFIX_PRIORITY = 11
 
+#: vmach's limits on one expression (not the control's: they keep the parser's and the
+#: evaluator's recursion far from Python's limit): brackets, signs and calls nested this deep,
+#: and operations chained this long (``1+1+...`` nests to the left as it is evaluated).
+MAX_NESTING = 100
+MAX_DEPTH = 200
+
 #: function name -> (min args, max args)
 FUNCTIONS: dict[str, tuple[int, int]] = {
     "SIN": (1, 1),
@@ -107,6 +113,18 @@ FUNCTIONS: dict[str, tuple[int, int]] = {
 }
 
 
+def depth(node: Node) -> int:
+    """Levels of ``node``'s tree (a leaf: 1), without recursion."""
+    deepest, todo = 0, [(node, 1)]
+    while todo:
+        n, d = todo.pop()
+        deepest = max(deepest, d)
+        todo.extend((a, d + 1) for a in n.args if isinstance(a, Node))
+        if isinstance(n.value, Node):
+            todo.append((n.value, d + 1))
+    return deepest
+
+
 class ExprParser:
     """Parses expressions out of a block's token list.
 
@@ -117,6 +135,7 @@ class ExprParser:
         self.toks = tokens
         self.pos = pos
         self.is_variable = is_variable
+        self.nesting = 0
 
     @property
     def tok(self) -> Token:
@@ -131,6 +150,22 @@ class ExprParser:
         return t
 
     def parse(self, min_priority: int = 0) -> Node:
+        """The expression from the current token on; at the top level (``min_priority`` 0
+        and not nested) also checked against ``MAX_DEPTH``."""
+        start = self.tok.col
+        self.nesting += 1
+        try:
+            if self.nesting > MAX_NESTING:
+                raise ParseError("syntax", f"expression nested more than {MAX_NESTING} levels deep",
+                                 self.tok.col)
+            node = self._parse(min_priority)
+        finally:
+            self.nesting -= 1
+        if self.nesting == 0 and depth(node) > MAX_DEPTH:
+            raise ParseError("syntax", f"expression longer than {MAX_DEPTH} chained operations", start)
+        return node
+
+    def _parse(self, min_priority: int) -> Node:
         left = self._prefix()
         while True:
             t = self.tok

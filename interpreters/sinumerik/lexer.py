@@ -8,6 +8,7 @@ on, so ``X10.5`` is one token ``X10.5``.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -41,14 +42,24 @@ _TOKEN = re.compile(
 _ADDR_DECIMAL = re.compile(r"^[A-Z]+(?:\d+\.\d*|\.\d+)$")
 
 
-def _number(text: str) -> float | int:
+def number(text: str) -> float | int:
+    """The value of a decimal literal (``12``, ``1.5``, ``1.5EX3``). Raises OverflowError
+    when it is not a finite double (so is an integer of more than 308 digits)."""
     t = text.upper()
     if "EX" in t:
         mant, exp = t.split("EX")
-        return float(mant) * 10.0 ** int(exp)
-    if "." in t:
-        return float(t)
-    return int(t)
+        if len(exp.lstrip("+-0")) > 4:
+            raise OverflowError(text)
+        value = float(mant) * 10.0 ** int(exp)
+    elif "." in t:
+        value = float(t)
+    elif len(t.lstrip("+-0")) > 308:
+        raise OverflowError(text)
+    else:
+        return int(t)
+    if not math.isfinite(value):
+        raise OverflowError(text)
+    return value
 
 
 def tokenize(text: str, source: SourceRef) -> list[Token]:
@@ -72,14 +83,15 @@ def tokenize(text: str, source: SourceRef) -> list[Token]:
             continue
         if kind == "num":
             try:
-                value = _number(tok)
+                value = number(tok)
             except OverflowError:
                 raise ProgramError("syntax", f"number {tok} is out of range", source.at(col)) from None
             out.append(Token(NUM, tok, col, value))
-        elif kind == "hex":
-            out.append(Token(NUM, tok, col, int(tok[2:-1], 16)))
-        elif kind == "bin":
-            out.append(Token(NUM, tok, col, int(tok[2:-1], 2)))
+        elif kind in ("hex", "bin"):
+            value = int(tok[2:-1], 16 if kind == "hex" else 2)
+            if value.bit_length() > 64:
+                raise ProgramError("syntax", f"constant {tok} is out of range", source.at(col))
+            out.append(Token(NUM, tok, col, value))
         elif kind == "str":
             out.append(Token(STR, tok[1:-1], col, tok[1:-1]))
         elif kind == "ident":

@@ -20,7 +20,7 @@ from interpreters.sinumerik.language import (
     UNSUPPORTED_WORDS,
     Code,
 )
-from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token, split_comment, tokenize
+from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token, number, split_comment, tokenize
 from vmach.canon import ControlSpec
 from vmach.errors import ProgramError
 from vmach.findings import Finding, error
@@ -84,6 +84,13 @@ class BlockParser:
 
     def fail(self, kind: str, message: str, col: int | None = None):
         raise ProgramError(kind, message, self.src.at(col or self.tok.col))
+
+    def literal(self, text: str, col: int) -> float | int:
+        """The number written after an address letter (``X12.5``), as the lexer reads one."""
+        try:
+            return number(text)
+        except OverflowError:
+            self.fail("syntax", f"number {text} is out of range", col)
 
     def expect_op(self, text: str) -> Token:
         if not self.is_op(text):
@@ -502,7 +509,10 @@ class BlockParser:
             self.fail("syntax", "a block number must come first in the block", t.col)
         m = _ADDR_NUM.match(name)
         if m or (len(name) == 1 and self.short_value_follows()):
-            letter, value = (m.group(1), _parse_number(m.group(2))) if m else (name, self.signed_number())
+            if m:
+                letter, value = m.group(1), self.literal(m.group(2), t.col)
+            else:
+                letter, value = name, self.signed_number()
             return self.letter_word(t, letter, value)
         if self.g.is_axis(name):
             self.fail("syntax", f"axis {name} needs a value: {name}=...", t.col)
@@ -570,7 +580,8 @@ class BlockParser:
                 continue
             m = _ADDR_NUM.match(wt.text)
             if m and self.g.is_axis(m.group(1)):
-                words.append(b.Word(wt.col, m.group(1), "axis", _num_node(_parse_number(m.group(2)), wt.col)))
+                value = self.literal(m.group(2), wt.col)
+                words.append(b.Word(wt.col, m.group(1), "axis", _num_node(value, wt.col)))
                 continue
             if len(wt.text) == 1 and self.g.is_axis(wt.text) and self.short_value_follows():
                 words.append(b.Word(wt.col, wt.text, "axis", _num_node(self.signed_number(), wt.col)))
@@ -593,8 +604,6 @@ class BlockParser:
         return f"unknown word {full or name!r}{hint}"
 
 
-def _parse_number(text: str) -> float | int:
-    return float(text) if "." in text else int(text)
 
 
 def _machine_code(name: str) -> Code:

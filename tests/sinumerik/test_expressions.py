@@ -159,3 +159,35 @@ def test_variables_and_arrays():
     with pytest.raises(EvalError) as exc:
         ev("B[2]", variables={"B": [0.0, 4.0]})
     assert exc.value.kind == "index_range"
+
+
+def test_expressions_at_the_limits_evaluate_and_beyond_them_are_syntax_errors():
+    """Nesting and chains that would exhaust Python's recursion (found by fuzzing: a
+    RecursionError traceback) stop at vmach's limits with a syntax error at the expression;
+    the deepest expressions within the limits still evaluate."""
+    from interpreters.sinumerik.expr import MAX_DEPTH, MAX_NESTING
+
+    n = MAX_NESTING - 2
+    assert ev("(" * n + "1" + ")" * n) == 1
+    assert ev("+".join(["1"] * (MAX_DEPTH - 1))) == MAX_DEPTH - 1
+    assert ev("-" * (MAX_NESTING - 2) + "1") == 1                 # an even number of signs
+    for text in ("(" * 5000 + "1" + ")" * 5000, "-" * 5000 + "1", "SIN(" * 3000 + "1" + ")" * 3000,
+                 "+".join(["1"] * 200_000), "+".join(["1"] * (MAX_DEPTH + 1))):
+        with pytest.raises(ParseError) as exc:
+            ev(text)
+        assert exc.value.kind == "syntax"
+        assert exc.value.col <= 4 * MAX_NESTING + 1               # where the limit is passed, not at the end
+
+
+@pytest.mark.parametrize("literal", ["9" * 400, "9" * 100_000, "1.5EX400", "1EX99999999",
+                                     "'H" + "F" * 17 + "'", "1" + "0" * 309 + ".5"])
+def test_number_literals_beyond_a_double_are_syntax_errors(literal):
+    """A literal that is no finite double (a 100,000-digit integer raised ValueError from
+    Python's int conversion limit; '9'*400 silently became inf) is a syntax error."""
+    from vmach.errors import ProgramError
+
+    with pytest.raises(ProgramError) as exc:
+        tokenize(f"R1={literal}", SourceRef("t", 1, 1, f"R1={literal}"))
+    assert exc.value.kind == "syntax"
+    assert exc.value.source.column == 4
+    assert tokenize("R1=" + "9" * 300, SourceRef("t", 1, 1, ""))[2].value == int("9" * 300)
