@@ -25,6 +25,10 @@ class Tolerances:
     #: Material below this volume (mm³) does not count as removed by a rapid or touched by a
     #: holder (boolean round-off on a cut stock is far smaller).
     removal_volume: float = 1e-3
+    #: Largest stock or tool dimension accepted, mm (10 m: beyond any machine vmach models; a
+    #: round blank's polygon and the trim slabs' 1 mm bins grow with size, so a mistyped
+    #: ``d=60e6`` must be an error, not an attempt to allocate petabytes).
+    max_size: float = 10_000.0
     #: Default block limit for interpreters (infinite-loop guard).
     max_blocks: int = 10_000_000
     #: Default subprogram call depth limit (Sinumerik allows 16 levels incl. main program).

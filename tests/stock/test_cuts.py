@@ -252,3 +252,30 @@ def test_blank_holds_answers_for_a_convex_blank_only(tmp_path):
     bent = Stock.from_spec(f"mesh:{path}")
     assert engine.volume(bent.initial) < engine.volume(engine.hull(engine.to_mesh(bent.initial)[0]))
     assert not bent.blank_holds(np.array([[0.0, 0.0, 0.0], [5.0, 5.0, 15.0]])).any()
+
+
+@pytest.mark.parametrize("spec", ["cylinder:d=1e9,l=100", "cylinder:d=60,l=2e4", "box:x=10,y=10,z=1e12",
+                                  "box:xmin=0,xmax=1,ymin=0,ymax=1,zmin=-1e300,zmax=0"])
+def test_a_stock_larger_than_any_machine_is_a_spec_error(spec):
+    """Found by fuzzing: d=1e9 asked numpy for 11 PiB (the round blank's polygon to
+    tol.blank_chord); the 1 mm trim bins of a kilometre-tall box would follow."""
+    from vmach.errors import InputError
+    from vmach.tol import tol
+
+    with pytest.raises(InputError) as exc:
+        Stock.from_spec(spec)
+    assert exc.value.kind == "stock_spec"
+    top = tol.max_size
+    assert np.ptp(engine.bounds(Stock.from_spec(f"box:x={top},y=1,z=1").solid), axis=0).max() == top
+
+
+def test_a_mesh_stock_larger_than_any_machine_is_a_spec_error(tmp_path):
+    import trimesh
+
+    from vmach.errors import InputError
+
+    path = tmp_path / "huge.stl"
+    trimesh.creation.box(extents=(20_000.0, 10.0, 10.0)).export(path)
+    with pytest.raises(InputError) as exc:
+        Stock.from_spec(f"mesh:{path}")
+    assert exc.value.kind == "stock_spec"

@@ -107,3 +107,27 @@ def test_straddling_polygon_deviation_is_within_the_chord():
         assert polygon_deviation(r, n - 4) > 0.002 or n == 12
         rv = straddle_radius(r, n)
         assert rv - r == pytest.approx(r - rv * math.cos(math.pi / n))
+
+
+def test_tool_sizes_beyond_any_machine_are_library_errors(tmp_path):
+    """Found by fuzzing: a mistyped size must be a finding at its line, not an attempt to
+    polygonise a kilometre-wide cutter."""
+    path = tmp_path / "big.toml"
+    path.write_text(
+        "[[tool]]\n"                                         # 1
+        'name = "A"\n'                                       # 2
+        'type = "flat"\n'                                    # 3
+        "diameter = 1e9\n"                                   # 4
+        "cutting_length = 10\n"                              # 5
+        "[[tool]]\n"                                         # 6
+        'name = "B"\n'                                       # 7
+        'type = "flat"\n'                                    # 8
+        "diameter = 10\n"                                    # 9
+        "cutting_length = 10\n"                              # 10
+        "holder = { diameter = 63.0, length = 1e12 }\n",     # 11
+        encoding="utf-8",
+    )
+    with pytest.raises(ModelError) as exc:
+        load_tools(path)
+    got = sorted((f.kind, f.line) for f in exc.value.findings())
+    assert got == [("tool_library", 4), ("tool_library", 11)]

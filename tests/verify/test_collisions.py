@@ -136,5 +136,14 @@ def test_the_balls_that_screen_samples_hold_every_surface_point():
     pts, _ = surface_points(parts, 0.5)
     d = np.linalg.norm(pts[:, None, :3] - centres[None, :, :3], axis=2) - radii[None, :]
     assert d.min(axis=1).max() <= 1e-9
-    # and no ball reaches farther than 1.12 of its cylinder's radius from the axis
-    assert np.all(radii <= np.repeat([20.0, 18.0, 31.5, 0.5], [1, 3, 3, 2]) * 1.12)
+    # and no ball reaches farther than 1.12 of its cylinder's radius from the axis (1 mm
+    # pieces for the needle: sqrt(0.5² + 0.5²))
+    assert np.all(radii <= np.repeat([20.0, 18.0, 31.5, 0.71], [1, 3, 3, 1]) * 1.12)
+    # a needle-thin cutter (found by fuzzing: radius 5e-10 mm asked for 5.5e9 balls) is held
+    # by balls around 1 mm pieces
+    needle = [Cylinder("cutter", 0.0, 5.5, 5e-10)]
+    centres, radii = sphere_cover(needle)
+    assert len(radii) == 6
+    pts, _ = surface_points(needle, 0.05)
+    d = np.linalg.norm(pts[:, None, :3] - centres[None, :, :3], axis=2) - radii[None, :]
+    assert d.min(axis=1).max() <= 1e-9

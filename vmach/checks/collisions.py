@@ -45,13 +45,13 @@ def tool_cylinders(tool) -> list[Cylinder]:
 
 def sphere_cover(parts: list[Cylinder]) -> tuple[np.ndarray, np.ndarray]:
     """Balls that hold the cylinders: each cut along its axis into pieces no longer than its
-    radius, one ball around each piece. Returns centres (k, 4) homogeneous, tool frame, and
-    radii (k,) mm. A point farther than d from every ball's surface is farther than d from
-    the cylinders (and from their surface points)."""
+    radius (or than 1 mm, for a needle-thin part), one ball around each piece. Returns centres
+    (k, 4) homogeneous, tool frame, and radii (k,) mm. A point farther than d from every ball's
+    surface is farther than d from the cylinders (and from their surface points)."""
     centres, radii = [], []
     for c in parts:
         length = c.z1 - c.z0
-        n = max(1, math.ceil(length / max(c.radius, 1e-9)))
+        n = max(1, math.ceil(length / max(c.radius, 1.0)))
         half = length / (2 * n)
         for i in range(n):
             centres.append([0.0, 0.0, c.z0 + (2 * i + 1) * half, 1.0])

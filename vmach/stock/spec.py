@@ -45,7 +45,17 @@ def _params(kind: str, text: str, allowed: set[str]) -> dict[str, float]:
 
 
 def parse_stock(spec: str, base: str | Path | None = None) -> engine.Solid:
-    """The stock solid of a spec string; bad specs raise :class:`InputError`."""
+    """The stock solid of a spec string; bad specs raise :class:`InputError`, so does a
+    stock larger than ``tol.max_size`` in any direction."""
+    solid = _parse(spec, base)
+    size = np.ptp(engine.bounds(solid), axis=0).max()
+    if not size <= tol.max_size:
+        raise InputError(f"stock {spec!r}: {size:g} mm across, larger than any machine "
+                         f"({tol.max_size:g} mm)", kind="stock_spec")
+    return solid
+
+
+def _parse(spec: str, base: str | Path | None) -> engine.Solid:
     kind, sep, rest = spec.partition(":")
     kind = kind.strip().lower()
     if not sep:
@@ -58,6 +68,9 @@ def parse_stock(spec: str, base: str | Path | None = None) -> engine.Solid:
                 raise InputError(f"stock cylinder: missing {k}=", kind="stock_spec")
             if p[k] <= 0 or not math.isfinite(p[k]):
                 raise InputError(f"stock cylinder: {k} must be > 0", kind="stock_spec")
+            if p[k] > tol.max_size:
+                raise InputError(f"stock cylinder: {k}={p[k]:g} mm is larger than any machine "
+                                 f"({tol.max_size:g} mm)", kind="stock_spec")
         r = p["d"] / 2.0
         n = segments_for(r, tol.blank_chord)
         top = p.get("z", 0.0)
@@ -72,6 +85,8 @@ def parse_stock(spec: str, base: str | Path | None = None) -> engine.Solid:
             hi = (p["xmax"], p["ymax"], p["zmax"])
         else:
             raise InputError("stock box: give x=,y=,z= or all of xmin..zmax", kind="stock_spec")
+        if not all(math.isfinite(v) for v in (*lo, *hi)):
+            raise InputError("stock box: sizes must be finite", kind="stock_spec")
         if not all(h > lo_ for lo_, h in zip(lo, hi, strict=True)):
             raise InputError("stock box: sizes must be > 0", kind="stock_spec")
         return engine.box(lo, hi)

@@ -34,6 +34,7 @@ from vmach.errors import ModelError
 from vmach.findings import Finding, error
 from vmach.machine.control import parse_toml, read_text
 from vmach.machine.tomlpos import KeyLines
+from vmach.tol import tol
 from vmach.tooling.model import KINDS, Offset, Tool
 
 _KEYS = {
@@ -142,6 +143,9 @@ def _num(entry: Mapping[str, Any], key: str, where: tuple, bad, default=None, po
         return default
     if not positive and v < 0:
         bad(where + (key,), f"{key} must be >= 0")
+        return default
+    if abs(v) > tol.max_size:
+        bad(where + (key,), f"{key} = {v:g} mm is larger than any machine ({tol.max_size:g} mm)")
         return default
     return float(v)
 
