@@ -131,3 +131,64 @@ def test_run_on_a_hybrid_adds_drive_values_and_flags_unreachable_poses(tmp_path,
     assert ok[0] and rows[1]["drives"] == {k: pytest.approx(float(v[0])) for k, v in values.items()}
     assert set(rows[2]["drives"].values()) == {None}
     assert f"{p}:3:1: error[unreachable]" in cap.err
+
+
+def test_option_values_that_start_with_a_minus_sign_are_values(tmp_path, capsys):
+    """README's `--profile-z -35:-5` (and `ik --tip -1,2,3`) used to be usage errors:
+    argparse took the value for an option."""
+    from vmach.cli import build_parser, negative_values_joined
+
+    parser, _ = build_parser()
+    args = parser.parse_args(negative_values_joined(
+        ["verify", "P.MPF", "--profile-z", "-35:-5", "--clearance", "-.5", "--out", "-1"]))
+    assert (args.profile_z, args.clearance, args.out) == ("-35:-5", -0.5, "-1")
+    args = parser.parse_args(negative_values_joined(["ik", "s5d", "--tip", "-1,2,3", "--axis", "-0,0,1"]))
+    assert (args.tip, args.axis) == ("-1,2,3", "-0,0,1")
+    # end to end: the range reaches its check (an unknown fit class then stops the run early)
+    p = prog(tmp_path, 'T="GLOD D40"\nM30\n')
+    tools = str(ROOT / "fixtures/tools/polygon_shaft.toml")
+    code = main(["verify", p, "--machine", "turnmill", "--tools", tools,
+                 "--stock", "cylinder:d=60,l=50", "--profile", "P3G:50", "--profile-z", "-35:-5",
+                 "--fit", "zz9", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and "error[fit]" in err and "usage" not in err
+    assert main(["ik", "turnmill", "--tip", "30,0,-3", "--axis", "-1,0,0"]) in (0, 1)
+    assert "error[usage]" not in capsys.readouterr().err
+
+
+def test_a_bad_profile_check_stops_verify_before_the_simulation(tmp_path, capsys, monkeypatch):
+    """A typo in --fit, --stations or --profile-z used to surface only after the whole stock
+    simulation (20 s on the reference program), and after --export had written its files."""
+    import vmach.stock.simulate as simulate_module
+
+    def boom(*a, **k):
+        raise AssertionError("the simulation ran")
+
+    monkeypatch.setattr(simulate_module, "simulate", boom)
+    p = prog(tmp_path, 'T="GLOD D40"\nM30\n')
+    base = ["verify", p, "--machine", "turnmill", "--tools", str(ROOT / "fixtures/tools/polygon_shaft.toml"),
+            "--stock", "cylinder:d=60,l=50", "--profile", "P3G:50", "--export", str(tmp_path / "part.stl"),
+            "--out", str(tmp_path / "o"), "--no-images"]
+    for extra, kind in ((["--profile-z=-35:-5", "--fit", "zz9"], "fit"),
+                        (["--profile-z=-35:-5", "--stations", "0"], "profile_spec"),
+                        (["--profile-z=nan:-5"], "profile_spec"),
+                        ([], "usage")):
+        assert main(base + extra) == 2
+        assert f"error[{kind}]" in capsys.readouterr().err
+    assert not (tmp_path / "part.stl").exists() and not (tmp_path / "o").exists()
+
+
+def test_an_out_directory_that_cannot_be_made_is_an_error_before_any_work(tmp_path, capsys):
+    """Found by fuzzing: `--out` naming a file, or a place no directory can be made, raised
+    FileExistsError / FileNotFoundError tracebacks after the whole run."""
+    from vmach.output import writable_dir
+
+    p = prog(tmp_path, "M30\n")
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    for out in (afile, afile / "sub", "/proc/vmach-no-such/x"):
+        assert main(["verify", p, "--machine", "turnmill", "--out", str(out), "--no-images"]) == 2
+        assert "error[unwritable]" in capsys.readouterr().err
+    assert afile.read_text() == "x"
+    assert writable_dir(tmp_path / "new" / "deeper") == tmp_path / "new" / "deeper"
+    assert not (tmp_path / "new").exists()                       # checking creates nothing

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Sequence
 
@@ -26,6 +27,23 @@ COMMANDS: dict[str, str] = {
     "postcheck": "vmach.commands.postcheck",
     "profile": "vmach.commands.profile",
 }
+
+
+#: a negative number or a list or range starting with one (``-35:-5``, ``-1,2,3``, ``-.5``)
+_NEGATIVE_VALUE = re.compile(r"^-\.?\d")
+
+
+def negative_values_joined(argv: Sequence[str]) -> list[str]:
+    """``argv`` with a value that starts with a minus sign and a digit joined to the option
+    before it (``--profile-z -35:-5`` → ``--profile-z=-35:-5``): argparse takes such a token
+    for an option unless it is a plain number, and no vmach option starts with a digit."""
+    out: list[str] = []
+    for tok in argv:
+        if out and _NEGATIVE_VALUE.match(tok) and out[-1].startswith("--") and "=" not in out[-1]:
+            out[-1] = f"{out[-1]}={tok}"
+        else:
+            out.append(tok)
+    return out
 
 
 class _Parser(argparse.ArgumentParser):
@@ -55,7 +73,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, object]]:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser, modules = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(negative_values_joined(sys.argv[1:] if argv is None else argv))
     if not args.command:
         parser.print_help(sys.stderr)
         return 2

@@ -30,3 +30,32 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO]:
         except OSError:
             pass
         raise
+
+
+def writable_dir(path: str | Path) -> Path:
+    """``path`` as a directory vmach may write into — one already, or one that can be made (its
+    nearest existing ancestor is a writable directory). Checked before any work is done, so
+    that a bad ``--out`` fails at once; creates nothing. Raises :class:`InputError`."""
+    target = Path(path)
+    probe = target
+    while not probe.exists():
+        if probe.parent == probe:
+            break
+        probe = probe.parent
+    if probe.exists() and not probe.is_dir():
+        what = "is a file" if probe == target else f"cannot be made: {probe} is a file"
+        raise InputError(f"{target}: {what}, not a directory", kind="unwritable")
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise InputError(f"{target}: {probe} is not writable", kind="unwritable")
+    return target
+
+
+def make_dir(path: str | Path) -> Path:
+    """Create the directory ``path`` (and its parents); :class:`InputError` if it cannot be."""
+    target = Path(path)
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{target}: cannot create the directory: {exc.strerror or exc}",
+                         kind="unwritable") from None
+    return target

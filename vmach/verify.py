@@ -198,6 +198,10 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             where = f"{setup.source}: " if options.accuracy is None else "--"
             raise InputError(f"{where}accuracy {report.accuracy!r}: one of {', '.join(ACCURACY)}",
                              kind="usage")
+        report.profile_spec = options.profile or setup.profile
+        # the profile, its stations and fit are read now: a typo fails before the simulation
+        profile_plan = (_profile_plan(report.profile_spec, options.profile_z or setup.profile_z, options)
+                        if report.profile_spec else None)
 
     with clock("interpret"):
         dialect = interpreters.dialect_for(path)
@@ -256,13 +260,9 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             for target in options.export:
                 which = "removed" if Path(target).stem.endswith("removed") else "part"
                 stock.export(target, which=which)
-        profile_spec = options.profile or setup.profile
-        report.profile_spec = profile_spec
-        if profile_spec:
+        if profile_plan is not None:
             with clock("profile"):
-                report.findings.extend(
-                    _profile(report, stock, profile_spec, options.profile_z or setup.profile_z, options)
-                )
+                report.findings.extend(_profile(report, stock, report.profile_spec, profile_plan, options))
 
     with clock("collisions"):
         from vmach.checks.collisions import fixture_collisions, machine_collisions, tool_cylinders
@@ -309,17 +309,30 @@ def _limit_findings(model, table: MoveTable) -> list[Finding]:
     return _first_per_line(keep)
 
 
-def _profile(report: Report, stock, spec: str, z_range: str | None, options: VerifyOptions) -> list[Finding]:
-    """Check the cut part against a DIN profile; ``profile_out_of_tolerance`` when it misses."""
+def _profile_plan(spec: str, z_range: str | None, options: VerifyOptions):
+    """(profile, Z stations (n,) mm) of a profile check, every part of it validated: the
+    profile spec, the Z range, the station count and the fit class (InputError)."""
+    from vmach.checks.iso286 import limits
     from vmach.checks.polygon import parse_profile
-    from vmach.checks.profile import check_profile, stations
+    from vmach.checks.profile import stations
 
     profile = parse_profile(spec)
     if not z_range:
         raise InputError(
             f"--profile {spec}: give the Z range to check with --profile-z (e.g. -35:-5)", kind="usage"
         )
-    res = check_profile(stock.section, profile, stations(z_range, options.profile_stations), fit=options.fit)
+    zs = stations(z_range, options.profile_stations)
+    limits(options.fit, profile.d1)
+    return profile, zs
+
+
+def _profile(report: Report, stock, spec: str, plan, options: VerifyOptions) -> list[Finding]:
+    """Check the cut part against a DIN profile (``plan``: :func:`_profile_plan`);
+    ``profile_out_of_tolerance`` when it misses."""
+    from vmach.checks.profile import check_profile
+
+    profile, zs = plan
+    res = check_profile(stock.section, profile, zs, fit=options.fit)
     report.profile = res.to_json()
     if res.passed:
         return []

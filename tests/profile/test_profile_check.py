@@ -108,9 +108,17 @@ def test_stations_and_densify():
     assert stations("-35:-5", 7).tolist() == [-35, -30, -25, -20, -15, -10, -5]
     assert stations("-5:-35", step=10).tolist() == [-35, -25, -15, -5]
     assert stations("-35:-5", 1).tolist() == [-20]
-    for bad in ("-35", "a:b", "1:2:3"):
+    for bad in ("-35", "a:b", "1:2:3", "nan:1", "-inf:0", "-1e400:0"):
         with pytest.raises(InputError):
             stations(bad)
+    # found by fuzzing: a NaN range reached the report as null deviations (a traceback in the
+    # summary), a huge count ran for many minutes, an infinite one raised OverflowError
+    for spec, count, step in (("-35:-5", 100_000, None), ("-35:-5", 0, None), ("-1e300:1e300", None, 1e-9),
+                              ("-35:-5", None, 0.001)):
+        with pytest.raises(InputError) as exc:
+            stations(spec, count, step)
+        assert exc.value.kind == "profile_spec"
+    assert len(stations("-35:-5", None, 0.05)) == 601 and len(stations("-35:-5", 1000)) == 1000
     square = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
     d = densify(square, 0.1)
     gaps = np.linalg.norm(np.diff(np.vstack([d, d[:1]]), axis=0), axis=1)

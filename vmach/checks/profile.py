@@ -101,23 +101,32 @@ def _r(v: float) -> float | None:
     return None if not math.isfinite(v) else round(float(v), 6)
 
 
+#: most Z stations one profile check takes (each is a section of the part and a fit)
+MAX_STATIONS = 1000
+
+
 def stations(spec: str, count: int | None = None, step: float | None = None) -> np.ndarray:
     """Z stations from ``"z0:z1"`` (both included): ``count`` equally spaced, or every
-    ``step`` mm. Returns (n,) float, mm."""
+    ``step`` mm; at most ``MAX_STATIONS``. Returns (n,) float, mm."""
     try:
         a, b = (float(t) for t in spec.split(":"))
     except ValueError:
         raise InputError(f"profile z range {spec!r}: expected z0:z1, e.g. -35:-5",
                          kind="profile_spec") from None
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise InputError(f"profile z range {spec!r}: z0 and z1 must be finite numbers", kind="profile_spec")
     lo, hi = min(a, b), max(a, b)
     if step is not None:
         if step <= 0:
             raise InputError("profile z step must be > 0", kind="profile_spec")
+        if not (hi - lo) / step < MAX_STATIONS:
+            raise InputError(f"profile z range {spec!r} every {step:g} mm: more than {MAX_STATIONS} "
+                             "stations", kind="profile_spec")
         n = int(math.floor((hi - lo) / step + 1e-9)) + 1
         return lo + step * np.arange(n)
-    n = count or 7
-    if n < 1:
-        raise InputError("profile station count must be >= 1", kind="profile_spec")
+    n = 7 if count is None else count
+    if not 1 <= n <= MAX_STATIONS:
+        raise InputError(f"profile station count must be 1 to {MAX_STATIONS}", kind="profile_spec")
     return np.array([(lo + hi) / 2]) if n == 1 else np.linspace(lo, hi, n)
 
 

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from vmach.errors import InputError
-from vmach.output import atomic_writer
+from vmach.output import atomic_writer, make_dir, writable_dir
 from vmach.tol import ACCURACY, tol
 from vmach.verify import VerifyOptions, verify
 
@@ -56,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--max-blocks must be at least 1", kind="usage")
     if not args.clearance >= 0:
         raise InputError("--clearance must be a distance >= 0 mm", kind="usage")
-    out = Path(args.out) if args.out else Path("out") / Path(args.program).stem
+    out = writable_dir(args.out if args.out else Path("out") / Path(args.program).stem)
     options = VerifyOptions(
         machine=args.machine,
         tools=args.tools,
@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     )
     report = verify(args.program, options)
     data = report.to_json()
-    out.mkdir(parents=True, exist_ok=True)
+    make_dir(out)
     with atomic_writer(out / "report.json") as fh:
         json.dump(data, fh, indent=2, ensure_ascii=False)
         fh.write("\n")

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from vmach.motion.table import TRAVERSE, MoveTable
+from vmach.output import make_dir
 
 # -- meshes of primitives (numpy) ---------------------------------------------------------------
 
@@ -132,7 +133,7 @@ def make_pictures(report, out_dir: Path) -> dict[str, str]:
     """Render every picture of a verify report into ``out_dir``; returns name -> file name."""
     from vmach.report import render
 
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_dir(out_dir)
     table, model = report.table, report.model
     images: dict[str, str] = {}
     part = report.part
