@@ -88,6 +88,10 @@ PREFIX_PRIORITY = 11
 #: and operations chained this long (``1+1+...`` nests to the left as it is evaluated).
 MAX_NESTING = 100
 MAX_DEPTH = 200
+#: vmach's limits on data (``resource_limit``): characters of a string (``<<`` doubling a string
+#: in a loop would otherwise fill the memory) and elements of one array (``DEF REAL A[1000,1000,1000]``)
+MAX_STRING = 10_000
+MAX_ARRAY_ELEMENTS = 1_000_000
 
 #: function name -> (min args, max args)
 FUNCTIONS: dict[str, tuple[int, int]] = {
@@ -333,7 +337,11 @@ def _int(v, what):
 
 
 def _concat(a, b):
-    return _text(a) + _text(b)
+    out = _text(a) + _text(b)
+    if len(out) > MAX_STRING:
+        raise EvalError("resource_limit", f"a string of {len(out)} characters (vmach simulates up to "
+                        f"{MAX_STRING})")
+    return out
 
 
 def _text(v: Value) -> str:

@@ -7,10 +7,11 @@ finding, so ``vmach check`` reports all of them at once.
 from __future__ import annotations
 
 import difflib
+import math
 import re
 
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik.expr import ExprParser, Node, ParseError
+from interpreters.sinumerik.expr import MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
 from interpreters.sinumerik.language import (
     ACCEPTED_WORDS,
     CODES,
@@ -296,6 +297,9 @@ class BlockParser:
                         break
                     self.pos += 1
                 self.expect_op("]")
+                if math.prod(dims) > MAX_ARRAY_ELEMENTS:
+                    self.fail("resource_limit", f"{nt.text} has {math.prod(dims)} elements (vmach simulates "
+                              f"arrays of up to {MAX_ARRAY_ELEMENTS})", nt.col)
             init = None
             init_list: tuple[Node, ...] = ()
             if self.is_op("="):

@@ -191,3 +191,27 @@ def test_number_literals_beyond_a_double_are_syntax_errors(literal):
     assert exc.value.kind == "syntax"
     assert exc.value.source.column == 4
     assert tokenize("R1=" + "9" * 300, SourceRef("t", 1, 1, ""))[2].value == int("9" * 300)
+
+
+def test_strings_and_arrays_beyond_vmachs_limits_are_resource_limit_errors(tmp_path):
+    """Found by fuzzing: `S=S<<S` in a loop filled the memory (MemoryError traceback) and
+    `DEF REAL A[1000,1000,1000]` ran for minutes building a billion elements."""
+    from interpreters import sinumerik
+    from interpreters.sinumerik.expr import MAX_ARRAY_ELEMENTS, MAX_STRING
+    from vmach.machine import load_model
+
+    control = load_model("turnmill").control
+    cases = {
+        "DEF STRING[100] S=\"AB\"\nFOR R1=1 TO 60\nS=S<<S\nENDFOR\nM30\n": 3,
+        "DEF REAL A[1000,1000,1000]\nM30\n": 1,
+        f"DEF INT B[{MAX_ARRAY_ELEMENTS + 1}]\nM30\n": 1,
+    }
+    for i, (text, line) in enumerate(cases.items()):
+        path = tmp_path / f"P{i}.MPF"
+        path.write_text(text)
+        errors = [f for f in sinumerik.run(str(path), control).findings if f.severity == "error"]
+        assert [(f.kind, f.line) for f in errors] == [("resource_limit", line)]
+    assert len(ev('S << S', variables={"S": "x" * (MAX_STRING // 2)})) == MAX_STRING
+    path = tmp_path / "OK.MPF"
+    path.write_text(f"DEF INT B[{MAX_ARRAY_ELEMENTS // 1000},1000]\nB[999,999]=3\nM30\n")
+    assert not [f for f in sinumerik.run(str(path), control).findings if f.severity == "error"]
