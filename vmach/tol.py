@@ -29,6 +29,10 @@ class Tolerances:
     #: round blank's polygon and the trim slabs' 1 mm bins grow with size, so a mistyped
     #: ``d=60e6`` must be an error, not an attempt to allocate petabytes).
     max_size: float = 10_000.0
+    #: Most rows a move table holds (arcs count as their chords; each row costs about 0.7 kB
+    #: while the table is built): a helix of a billion turns (``TURN=1000000000``) must be an
+    #: error, not an attempt to allocate terabytes.
+    max_moves: int = 5_000_000
     #: Default block limit for interpreters (infinite-loop guard).
     max_blocks: int = 10_000_000
     #: Default subprogram call depth limit (Sinumerik allows 16 levels incl. main program).

@@ -109,6 +109,11 @@ class CycleMixin:
             s.pos = p
 
         for repeat in range(repeats, 0, -1):
+            if repeat < repeats:
+                # each further repeat counts against --max-blocks (L1000000000 filled the memory)
+                self.blocks += 1
+                if self.blocks > self.options.max_blocks:
+                    raise NgcError("block_limit", limit=self.options.max_blocks)
             aa += inc_a
             bb += inc_b
             if repeat == repeats and current_cc > r:

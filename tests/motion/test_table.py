@@ -98,3 +98,21 @@ M30
     assert by_line[10][-1] and not any(by_line[10][:-1])
     assert by_line[11] == [False]
     assert t.exact_stop.dtype == bool and not t.exact_stop.flags.writeable
+
+
+def test_an_arc_or_a_program_beyond_the_tables_size_is_a_resource_limit_at_its_line(tmp_path):
+    """Found by fuzzing: `G2 ... TURN=1000000000` asked numpy for 1.6 TiB of chord points."""
+    from vmach.errors import ProgramError
+
+    r = ok(tmp_path, "G0 X10 Y0 Z0\nG1 Z-1 F100\nG3 X10 Y0 I-10 J0 TURN=1000000000 F100\nM30\n")
+    with pytest.raises(ProgramError) as exc:
+        build(r.commands, DEFAULT_CONTROL)
+    assert (exc.value.kind, exc.value.source.line) == ("resource_limit", 3)
+    # the budget is the table's: a small one stops at the move that passes it
+    r = ok(tmp_path, "G0 X10 Y0 Z0\nG3 X-10 Y0 I-10 J0 F100\nG1 X0\nG1 X1\nG1 X2\nM30\n")
+    rows = len(build(r.commands, DEFAULT_CONTROL))
+    assert len(build(r.commands, DEFAULT_CONTROL, max_moves=rows)) == rows
+    for most, line in ((rows - 1, 5), (rows - 3, 3), (5, 2)):
+        with pytest.raises(ProgramError) as exc:
+            build(r.commands, DEFAULT_CONTROL, max_moves=most)
+        assert (exc.value.kind, exc.value.source.line) == ("resource_limit", line)

@@ -167,3 +167,13 @@ def test_trig_in_degrees(tmp_path):
     assert t.axes["X"] == pytest.approx(5.0)
     assert t.axes["Y"] == pytest.approx(45.0)
     assert math.copysign(1.0, t.axes["Z"]) == 1.0
+
+
+def test_canned_cycle_repeats_count_against_the_block_limit(tmp_path):
+    """Found by fuzzing: `G81 ... L1000000000` in G91 filled the memory with drill moves
+    from one block; every repeat now counts as a block."""
+    r = _run(tmp_path, "G20 G91\nG81 X1 Y0 Z-1 R1 L1000000000 F10\nM2\n", options=RunOptions(max_blocks=500))
+    assert not r.completed
+    assert (r.findings[-1].kind, r.findings[-1].line) == ("block_limit", 2)
+    r = _run(tmp_path, "G20 G91\nG81 X1 Y0 Z-1 R1 L5 F10\nM2\n", options=RunOptions(max_blocks=500))
+    assert r.completed

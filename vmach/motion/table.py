@@ -15,6 +15,7 @@ import numpy as np
 
 from vmach import canon
 from vmach.canon import ControlSpec
+from vmach.errors import ProgramError
 from vmach.tol import tol
 
 TRAVERSE, FEED, ARC = 0, 1, 2
@@ -104,8 +105,10 @@ class MoveTable:
         return np.sqrt((d * d).sum(axis=1))
 
 
-def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float = tol.chord) -> MoveTable:
-    """Turn a canonical stream into a MoveTable (arcs linearised to ``chord`` mm)."""
+def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float = tol.chord,
+          max_moves: int = tol.max_moves) -> MoveTable:
+    """Turn a canonical stream into a MoveTable (arcs linearised to ``chord`` mm); more than
+    ``max_moves`` rows is a ``resource_limit`` ProgramError at the command that passes it."""
     names: list[str] = [a.name for a in control.axes]
     for g in control.geometry:
         if g not in names:
@@ -158,6 +161,9 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
 
     for ci, c in enumerate(commands):
         if isinstance(c, canon.Traverse | canon.LinearFeed):
+            if len(starts) >= max_moves:
+                raise ProgramError("resource_limit", f"the program makes more than {max_moves} moves "
+                                   "(vmach's limit)", c.source)
             end = pos.copy()
             for a, v in c.axes.items():
                 end[col[a]] = v
@@ -170,7 +176,7 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
             end = pos.copy()
             for a, v in c.axes.items():
                 end[col[a]] = v
-            pts = arc_points(pos, end, c, col, chord)
+            pts = arc_points(pos, end, c, col, chord, max_moves - len(starts))
             m = len(pts) - 1
             for j, (a, b) in enumerate(zip(pts[:-1], pts[1:], strict=True)):
                 add(a, b, ARC, c.feed, ci, c, j == m - 1)
@@ -230,13 +236,15 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
 
 
 def arc_points(
-    start: np.ndarray, end: np.ndarray, arc: canon.ArcFeed, col: dict[str, int], chord: float = tol.chord
+    start: np.ndarray, end: np.ndarray, arc: canon.ArcFeed, col: dict[str, int], chord: float = tol.chord,
+    most: int = tol.max_moves,
 ) -> np.ndarray:
     """Points along an arc or helix, start and end included.
 
     start, end : (k,) float — every axis; the plane axes turn about ``arc.center``, all other
     axes (the helix axis among them) move linearly with the angle.
-    Returns (m + 1, k) float with m chords whose sagitta stays below ``chord`` mm.
+    Returns (m + 1, k) float with m chords whose sagitta stays below ``chord`` mm; more than
+    ``most`` chords is a ``resource_limit`` ProgramError at the arc.
     """
     ia, ib = col[arc.plane[0]], col[arc.plane[1]]
     ca, cb = arc.center
@@ -259,6 +267,10 @@ def arc_points(
     else:
         step = 2 * math.acos(max(-1.0, 1 - chord / r))
     m = max(1, math.ceil(abs(sweep) / step))
+    if m > most:
+        raise ProgramError("resource_limit", f"an arc of {abs(sweep) / (2 * math.pi):.6g} turns needs {m} "
+                           f"chords of {chord:g} mm, more than the move table holds (vmach's limit: "
+                           f"{tol.max_moves} moves)", arc.source)
     t = np.linspace(0.0, 1.0, m + 1)
     pts = start[None, :] + t[:, None] * (end - start)[None, :]
     ang = a0 + t * sweep
