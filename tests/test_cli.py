@@ -84,6 +84,10 @@ def test_run_output_file_is_written_only_on_success(tmp_path, capsys):
     assert f"{bad}:2:1: error[division_by_zero]" in err
     assert main(["run", good, "-o", str(out)]) == 0
     assert "traverse" in out.read_text()
+    # found by fuzzing: -o naming a directory raised IsADirectoryError after the run
+    assert main(["run", good, "-o", str(tmp_path)]) == 2
+    assert "error[unwritable]" in capsys.readouterr().err
+    assert list(tmp_path.glob(".*")) == []
 
 
 def test_runtime_limit_and_usage_errors(tmp_path, capsys):

@@ -19,11 +19,20 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO]:
     directory = target.parent if str(target.parent) else Path(".")
     if not directory.is_dir():
         raise InputError(f"{path}: the directory {directory} does not exist", kind="unwritable")
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=directory)
+    if target.is_dir():
+        raise InputError(f"{path}: is a directory", kind="unwritable")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=directory)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write there: {exc.strerror or exc}", kind="unwritable") from None
     try:
         with os.fdopen(fd, mode, encoding=None if "b" in mode else "utf-8") as fh:
             yield fh
-        os.replace(tmp, target)
+        try:
+            os.replace(tmp, target)
+        except OSError as exc:
+            raise InputError(f"{path}: cannot write there: {exc.strerror or exc}",
+                             kind="unwritable") from None
     except BaseException:
         try:
             os.unlink(tmp)
