@@ -196,3 +196,37 @@ def test_an_out_directory_that_cannot_be_made_is_an_error_before_any_work(tmp_pa
     assert afile.read_text() == "x"
     assert writable_dir(tmp_path / "new" / "deeper") == tmp_path / "new" / "deeper"
     assert not (tmp_path / "new").exists()                       # checking creates nothing
+
+
+@pytest.mark.parametrize("setup, line", [
+    ("programs = 5\n", 1), ("machine = 5\n", 1), ('machine = "turnmill"\n[programs.P]\nstock = 3\n', 3),
+    ("[zero_offsets.G54]\nX = \"abc\"\n", 2), ("[zero_offsets.G54]\nX = nan\n", 2),
+    ("[zero_offsets]\nG54 = 5\n", 2),
+    ('accuracy = ["fine"]\n', 1)])
+def test_a_setup_file_value_of_the_wrong_type_is_an_error_at_its_line(tmp_path, capsys, setup, line):
+    """Found by fuzzing: each of these raised TypeError/AttributeError/ValueError tracebacks."""
+    (tmp_path / "vmach.toml").write_text(setup)
+    assert main(["check", prog(tmp_path, "G0 X1\nM30\n")]) == 2
+    err = capsys.readouterr().err
+    assert f"vmach.toml:{line}:1: error[setup]" in err and "Traceback" not in err
+
+
+def test_ik_on_a_model_without_axes_and_export_without_a_stock_are_usage_errors(tmp_path, capsys):
+    """Found by fuzzing: ik on a chain-less model raised a reshape ValueError; --export was
+    silently ignored when nothing was simulated; a bad second --export target was found only
+    after the first had been written."""
+    model = tmp_path / "nochain.toml"
+    model.write_text('[work]\nlink = "base"\n[tool]\nlink = "base"\n')
+    assert main(["ik", str(model), "--tip", "1,2,3", "--axis", "0,0,1"]) == 2
+    assert "error[usage]" in capsys.readouterr().err
+    p = prog(tmp_path, 'T="GLOD D40"\nM30\n')
+    first = tmp_path / "first.stl"
+    assert main(["verify", p, "--machine", "turnmill", "--no-images", "--out", str(tmp_path / "o"),
+                 "--export", str(first)]) == 2
+    assert "error[usage]" in capsys.readouterr().err
+    tools = str(ROOT / "fixtures/tools/polygon_shaft.toml")
+    assert main(["verify", p, "--machine", "turnmill", "--tools", tools, "--stock", "cylinder:d=60,l=50",
+                 "--no-images", "--out", str(tmp_path / "o"), "--export", str(first),
+                 "--export", str(tmp_path / "second.xyz")]) == 2
+    assert "error[export_format]" in capsys.readouterr().err
+    assert not first.exists() and not (tmp_path / "o").exists()

@@ -18,6 +18,7 @@ Command-line options win; otherwise a ``vmach.toml`` beside the program says wha
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -58,16 +59,52 @@ def resolve_model(spec: str | Path, base: Path | None = None) -> Path:
     raise InputError(f"machine model {spec!s} not found (a path, or one of: {known})", kind="unreadable")
 
 
+#: the setup file's text settings (each a string when given)
+TEXT_KEYS = ("machine", "tools", "stock", "profile", "profile_z", "accuracy")
+
+
 def read_setup(program: str | Path) -> Setup:
-    """The ``vmach.toml`` beside ``program``, or an empty Setup."""
-    from vmach.machine.control import read_toml
+    """The ``vmach.toml`` beside ``program``, or an empty Setup. A value of the wrong type is
+    an ``error[setup]`` at its line in the file."""
+    from vmach.machine.control import parse_toml, read_text
+    from vmach.machine.tomlpos import KeyLines
 
     path = Path(program).resolve().parent / SETUP_NAME
     if not path.is_file():
         return Setup()
-    data: dict[str, Any] = read_toml(path)
-    overrides = {k.upper(): v for k, v in data.pop("programs", {}).items()}
-    data.update(overrides.get(Path(program).stem.upper(), {}))
+    text = read_text(path)
+    data: dict[str, Any] = parse_toml(text, str(path))
+    places = KeyLines.scan(text, str(path))
+
+    def bad(key: tuple, what: str):
+        return InputError(f"{SETUP_NAME}: {'.'.join(map(str, key))} {what}", kind="setup",
+                          source=places.find(key))
+
+    programs = data.pop("programs", {})
+    if not isinstance(programs, dict) or not all(isinstance(v, dict) for v in programs.values()):
+        raise bad(("programs",), "must hold tables: [programs.NAME]")
+    stem = Path(program).stem.upper()
+    where = {k: (k,) for k in data}               # each setting's key, for the error's line
+    for name, values in programs.items():
+        if name.upper() == stem:
+            data.update(values)
+            where.update({k: ("programs", name, k) for k in values})
+    for key in TEXT_KEYS:
+        if key in data and not isinstance(data[key], str):
+            raise bad(where[key], "must be a string")
+    offsets = data.get("zero_offsets", {})
+    zero: dict[str, dict[str, float]] = {}
+    if not isinstance(offsets, dict):
+        raise bad(("zero_offsets",), "must hold tables: [zero_offsets.G54]")
+    for k, vals in offsets.items():
+        if not isinstance(vals, dict):
+            raise bad(("zero_offsets", k), "must be a table of axis values")
+        row = {}
+        for a, v in vals.items():
+            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+                raise bad(("zero_offsets", k, a), "must be a finite number (mm or degrees)")
+            row[a] = float(v)
+        zero[k.upper()] = row
     base = path.parent
     machine = data.get("machine")
     tools = data.get("tools")
@@ -78,10 +115,7 @@ def read_setup(program: str | Path) -> Setup:
         profile=data.get("profile"),
         profile_z=data.get("profile_z"),
         accuracy=data.get("accuracy"),
-        zero_offsets={
-            k.upper(): {a: float(v) for a, v in vals.items()}
-            for k, vals in data.get("zero_offsets", {}).items()
-        },
+        zero_offsets=zero,
         source=path,
     )
 

@@ -198,6 +198,11 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             where = f"{setup.source}: " if options.accuracy is None else "--"
             raise InputError(f"{where}accuracy {report.accuracy!r}: one of {', '.join(ACCURACY)}",
                              kind="usage")
+        if options.export:
+            from vmach.stock.stock import export_target
+
+            for target in options.export:      # a bad target fails now, not after the simulation
+                export_target(target)
         report.profile_spec = options.profile or setup.profile
         # the profile, its stations and fit are read now: a typo fails before the simulation
         profile_plan = (_profile_plan(report.profile_spec, options.profile_z or setup.profile_z, options)
@@ -236,6 +241,9 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             report.stock_spec, notes = declared
             report.findings.extend(Finding("workpiece", "info", n) for n in notes)
     spec = report.stock_spec
+    if options.export and not (spec and library is not None):
+        raise InputError(f"--export needs a simulated stock: give {'--tools' if spec else '--stock'} "
+                         "(or name it in vmach.toml)", kind="usage")
     if spec and library is not None:
         with clock("stock"):
             from vmach.stock import Stock, engine

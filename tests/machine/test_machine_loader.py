@@ -190,3 +190,38 @@ def test_a_closed_form_that_does_not_fit_the_chain_is_refused(tmp_path):
     (p,) = exc.value.findings()
     assert p.kind == "closed_form_mismatch"
     assert text.splitlines()[p.line - 1].startswith("ik = ")
+
+
+# Found by fuzzing the model files (each used to end in a traceback, a NaN in the trace or a
+# 24 GB collision mesh): (model, text replaced, replacement, kind, line of the problem).
+FUZZED = [
+    ("turnmill", 'cycles = ["C_AXIS_ON", "C_AXIS_OFF"]', "cycles = 5", "bad_value", 16),
+    ("turnmill", 'transverse = "X"', 'transverse = ["X"]', "bad_value", 14),
+    ("turnmill", "spindles = [1, 2]", "spindles = [1, 128]", "bad_value", 19),
+    ("turnmill", "home = 325.0", "home = inf", "bad_value", 28),
+    ("turnmill", "home = 325.0", "home = 1e308", "bad_value", 28),
+    ("s5d", "modulo = 360.0", "modulo = nan", "bad_value", 44),
+    ("s5d", "max_rate = 5400.0", "max_rate = 1e-320", "bad_value", 61),
+    ("s5d", "radius = 50.0", "radius = 20000.0", "bad_value", 118),
+    ("s5d", "size = [160.0, 120.0, 20.0]", "size = [200000.0, 120.0, 20.0]", "bad_value", 126),
+    ("h5d", "root = -1", 'root = "x"', "bad_value", 93),
+]
+
+
+@pytest.mark.parametrize("name, old, new, kind, line", FUZZED)
+def test_fuzzed_model_values_are_findings_at_their_line(tmp_path, name, old, new, kind, line):
+    text = (MODELS / f"{name}.toml").read_text()
+    assert old in text
+    f = tmp_path / "m.toml"
+    f.write_text(text.replace(old, new, 1))
+    with pytest.raises(ModelError) as exc:
+        load_model(f)
+    assert (kind, line) in {(p.kind, p.line) for p in exc.value.findings()}
+
+
+def test_deeply_nested_toml_is_a_syntax_error(tmp_path):
+    f = tmp_path / "deep.toml"
+    f.write_text("a = " + "[" * 1000 + "]" * 1000 + "\n")
+    with pytest.raises(ModelError) as exc:
+        load_model(f)
+    assert [p.kind for p in exc.value.findings()] == ["model_syntax"]

@@ -167,3 +167,11 @@ def test_postcheck_cli_json_and_exit_codes(capsys):
                  "s5d", "--tol-angle", "x"]) == 2
     err = capsys.readouterr().err
     assert "Traceback" not in err and "error[" in err
+
+
+def test_loadtl_beyond_an_integer_is_a_syntax_error_and_keeps_the_tool():
+    """Found by fuzzing: LOADTL/inf raised OverflowError, LOADTL/1e300 overflowed the tool
+    column."""
+    cl = parse_cl("LOADTL/3\nGOTO/1,2,3\nLOADTL/inf,IN,1\nGOTO/1,2,4\nLOADTL/1e300\nGOTO/1,2,5\n", "t.cl")
+    assert cl.tool.tolist() == [3, 3, 3]
+    assert [(f.kind, f.line) for f in cl.findings] == [("cl_syntax", 3), ("cl_syntax", 5)]

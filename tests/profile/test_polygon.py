@@ -64,7 +64,9 @@ def test_p4c_flats_and_outer_circle():
     assert d[3] == pytest.approx(0.0, abs=1e-6)
 
 
-@pytest.mark.parametrize("bad", ["P3G:51", "P5G:50", "P3G:50x40", "P4C:30", "P4C:30x35", "P3G:50/4", ""])
+@pytest.mark.parametrize("bad", ["P3G:51", "P5G:50", "P3G:50x40", "P4C:30", "P4C:30x35", "P3G:50/4", "",
+                                 "P3G:1" + "0" * 155 + "/1", "P3G:1" + "0" * 400,
+                                 "P4C:1" + "0" * 400 + "x1" + "0" * 155])
 def test_bad_profile_specs(bad):
     with pytest.raises(InputError):
         parse_profile(bad)

@@ -279,3 +279,12 @@ def test_a_mesh_stock_larger_than_any_machine_is_a_spec_error(tmp_path):
     with pytest.raises(InputError) as exc:
         Stock.from_spec(f"mesh:{path}")
     assert exc.value.kind == "stock_spec"
+
+
+def test_a_blank_too_small_for_a_hull_is_not_taken_for_convex(face40):
+    """Found by fuzzing: a 1e-6 mm box stock has no hull planes, and the verify checks'
+    screening reduced over none (ValueError)."""
+    stock = Stock.from_spec("box:x=1e-6,y=1e-6,z=1e-6")
+    assert stock.blank_planes() is None
+    assert not stock.blank_holds(np.zeros((1, 3))).any()
+    assert len(Stock.from_spec("box:x=10,y=10,z=10").blank_planes()) == 6

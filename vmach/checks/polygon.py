@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from vmach.errors import InputError
+from vmach.tol import tol
 
 DATA = Path(__file__).parent / "data"
 
@@ -206,6 +207,9 @@ def parse_profile(spec: str) -> Polygon:
         e = float(m.group("e")) if m.group("e") else None
     except ValueError:
         raise InputError(f"profile {spec!r}: bad number", kind="profile_spec") from None
+    if not all(math.isfinite(v) and v <= tol.max_size for v in (a, b, e) if v is not None):
+        raise InputError(f"profile {spec!r}: sizes must be finite and at most {tol.max_size:g} mm",
+                         kind="profile_spec")
     if kind == "P3G":
         if b is not None:
             raise InputError(f"profile {spec!r}: P3G takes one size (d1)", kind="profile_spec")

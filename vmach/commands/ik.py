@@ -44,6 +44,8 @@ def run(args: argparse.Namespace) -> int:
     norm = float(np.linalg.norm(axis))
     if norm < 1e-9:
         raise InputError("--axis must not be the zero vector")
+    if not model.axes:
+        raise InputError(f"{model.name}: the model has no axes to solve for", kind="usage")
     previous = model.q(assignments(args.previous, "--previous"))[0]
     sol = model.ik(tip, axis, previous=previous, strategy=args.strategy)
     out: dict = {

@@ -129,9 +129,12 @@ def parse_cl(text: str, path: str = "<cl>") -> ClData:
             feed = f * (25.4 if unit in ("IPM", "IPR") else 1.0)
         elif word == "LOADTL":
             try:
-                tool = int(float(fields[0]))
-            except (ValueError, IndexError):
-                found.append(error("cl_syntax", "LOADTL needs a tool number", src))
+                number = int(float(fields[0]))
+                if not 0 <= number < 2**31:
+                    raise ValueError(number)
+                tool = number
+            except (ValueError, IndexError, OverflowError):
+                found.append(error("cl_syntax", "LOADTL needs a tool number (0 to 2147483647)", src))
         elif word == "UNITS":
             unit = args.upper()
             if unit not in ("MM", "INCHES", "INCH"):

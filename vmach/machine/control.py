@@ -25,6 +25,7 @@ Travel limits and rates belong to the kinematic part (joints), not to this secti
 
 from __future__ import annotations
 
+import math
 import re
 import tomllib
 from collections.abc import Callable, Mapping
@@ -38,6 +39,7 @@ from vmach.findings import Finding, error
 from vmach.machine.formula import FormulaError, formula_axes
 from vmach.machine.tomlpos import KeyLines
 from vmach.source import SourceRef
+from vmach.tol import tol
 
 Locate = Callable[[tuple], SourceRef]
 
@@ -55,6 +57,8 @@ def parse_toml(text: str, path: str) -> dict[str, Any]:
     """Parse TOML text; a syntax error becomes :class:`ModelError` with line and column."""
     try:
         return tomllib.loads(text)
+    except RecursionError:
+        raise ModelError([error("model_syntax", "values nested too deeply", SourceRef(path, 1))]) from None
     except tomllib.TOMLDecodeError as exc:
         line = getattr(exc, "lineno", None)
         col = getattr(exc, "colno", None)
@@ -73,9 +77,14 @@ def read_toml(path: str | Path) -> dict[str, Any]:
 
 
 def _float(value: Any) -> float | None:
+    """A finite number within ``tol.max_size`` (mm or degrees), else None."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         return None
-    return float(value)
+    try:
+        v = float(value)
+    except OverflowError:
+        return None
+    return v if math.isfinite(v) and abs(v) <= tol.max_size else None
 
 
 def default_axes(model: Mapping[str, Any]) -> list[dict[str, Any]]:
@@ -144,7 +153,7 @@ def collect_control(
             if modulo is None or kind != "rotary" or modulo <= 0:
                 bad(
                     ("axes", i, "modulo"),
-                    f"axis {name}: modulo needs a rotary axis and a value > 0",
+                    f"axis {name}: modulo needs a rotary axis and a finite value > 0",
                     "bad_value",
                 )
                 modulo = None
@@ -154,7 +163,7 @@ def collect_control(
             g90 = "ac"
         home = _float(ax.get("home", 0.0))
         if home is None:
-            bad(("axes", i, "home"), f"axis {name}: home must be a number", "bad_value")
+            bad(("axes", i, "home"), f"axis {name}: home must be a finite number", "bad_value")
             home = 0.0
         axes.append(AxisSpec(name=name, kind=kind, modulo=modulo, home=home, g90_mode=g90))
     geometry = ctl.get("geometry", ("X", "Y", "Z"))
@@ -162,6 +171,9 @@ def collect_control(
         bad(("control", "geometry"), "control.geometry must name three axes", "bad_value")
         geometry = ("X", "Y", "Z")
     transverse = ctl.get("transverse")
+    if transverse is not None and not isinstance(transverse, str):
+        bad(("control", "transverse"), "control.transverse must name an axis", "bad_value")
+        transverse = None
     if transverse is not None and transverse not in seen:
         bad(
             ("control", "transverse"),
@@ -170,9 +182,9 @@ def collect_control(
         )
     spindles_raw = ctl.get("spindles", [1])
     if not isinstance(spindles_raw, list) or not all(
-        isinstance(s, int) and not isinstance(s, bool) for s in spindles_raw
+        isinstance(s, int) and not isinstance(s, bool) and 0 <= s <= 99 for s in spindles_raw
     ):
-        bad(("control", "spindles"), "control.spindles must be a list of integers", "bad_value")
+        bad(("control", "spindles"), "control.spindles must be a list of integers 0..99", "bad_value")
         spindles_raw = [1]
     spindles = tuple(spindles_raw)
     master = ctl.get("master_spindle", spindles[0] if spindles else 1)
@@ -202,12 +214,19 @@ def collect_control(
                 else:
                     row[str(a)] = fv
             offsets[str(k).upper()] = row
+    names = {}
+    for key in ("cycles", "gcodes"):
+        raw = ctl.get(key, ())
+        if not isinstance(raw, list | tuple) or not all(isinstance(v, str) for v in raw):
+            bad(("control", key), f"control.{key} must be a list of names", "bad_value")
+            raw = ()
+        names[key] = frozenset(v.upper() for v in raw)
     spec = ControlSpec(
         axes=tuple(axes),
         geometry=tuple(str(g) for g in geometry),  # type: ignore[arg-type]
         transverse=transverse,
-        cycles=frozenset(str(c).upper() for c in ctl.get("cycles", ())),
-        gcodes=frozenset(str(g).upper() for g in ctl.get("gcodes", ())),
+        cycles=names["cycles"],
+        gcodes=names["gcodes"],
         strict_axes=bool(axes),
         zero_offsets=offsets,
         spindles=spindles,

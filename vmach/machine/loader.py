@@ -54,9 +54,15 @@ from vmach.machine.spec import (
 )
 from vmach.machine.tomlpos import KeyLines
 from vmach.source import SourceRef
+from vmach.tol import tol
 
 IK_METHODS = ("numeric", "table_table", "head_bc")
 UNIT_TOL = 1e-9
+#: largest magnitude of any number in a model (mm, degrees, mm/min): far beyond any machine,
+#: small enough that squares and products stay finite
+MAGNITUDE = 1e9
+#: smallest max_rate (mm/min or degrees/min): a denormal rate made times infinite
+MIN_RATE = 1e-6
 
 
 class Reader:
@@ -123,13 +129,22 @@ class Reader:
 
     # -- typed getters -------------------------------------------------------------------------
     def scalar(self, value: Any, key: tuple, what: str) -> float | None:
-        """A number or a scalar parameter reference."""
+        """A number or a scalar parameter reference: finite, and within ``MAGNITUDE``."""
+        v: Any = None
         if _is_num(value):
-            return float(value)
-        if isinstance(value, str):
+            try:
+                v = float(value)
+            except OverflowError:
+                v = math.inf
+        elif isinstance(value, str):
             v = self._ref(value, key)
-            if v is None or isinstance(v, float):
+            if v is None:
+                return None
+        if isinstance(v, float):
+            if math.isfinite(v) and abs(v) <= MAGNITUDE:
                 return v
+            self.err("bad_value", f"{what} must be a finite number within ±{MAGNITUDE:g}", key)
+            return None
         self.err("bad_value", f"{what} must be a number", key)
         return None
 
@@ -174,8 +189,8 @@ class Reader:
         if value is None:
             return None
         v = self.scalar(value, key, what)
-        if v is not None and v <= 0:
-            self.err("bad_value", f"{what} must be > 0", key)
+        if v is not None and v < MIN_RATE:
+            self.err("bad_value", f"{what} must be at least {MIN_RATE:g}", key)
             return None
         return v
 
@@ -444,16 +459,18 @@ def _geometry(r: Reader, i: int, t: Mapping[str, Any], links: list[str]) -> Geom
     size = radius = length = mpath = None
     if shape == "box":
         size = r.vector(t.get("size"), key + ("size",), f"geometry {name}: size")
-        if size is not None and min(size) <= 0:
-            r.err("bad_value", f"geometry {name}: box sizes must be > 0", key + ("size",))
+        if size is not None and not (min(size) > 0 and max(size) <= tol.max_size):
+            r.err("bad_value", f"geometry {name}: box sizes must be > 0 and at most {tol.max_size:g} mm",
+                  key + ("size",))
             size = None
         ok = ok and size is not None
     elif shape == "cylinder":
         radius = r.scalar(t.get("radius"), key + ("radius",), f"geometry {name}: radius")
         length = r.scalar(t.get("length"), key + ("length",), f"geometry {name}: length")
         for v, k in ((radius, "radius"), (length, "length")):
-            if v is not None and v <= 0:
-                r.err("bad_value", f"geometry {name}: {k} must be > 0", key + (k,))
+            if v is not None and not 0 < v <= tol.max_size:
+                r.err("bad_value", f"geometry {name}: {k} must be > 0 and at most {tol.max_size:g} mm",
+                      key + (k,))
                 ok = False
         ok = ok and radius is not None and length is not None
     elif shape == "mesh":
@@ -519,8 +536,9 @@ def _parallel(r: Reader, i: int, t: Mapping[str, Any], axes: tuple[str, ...]) ->
             r.err("bad_value", f"{drive}: strut length must be > 0", lk + ("length",))
             length = None
         root = lt.get("root", -1)
-        if root not in (1, -1):
+        if isinstance(root, bool) or root not in (1, -1):
             r.err("bad_value", f"{drive}: root must be 1 or -1", lk + ("root",))
+            continue
         lim = r.limits(lt.get("limits"), lk + ("limits",), f"{drive}: limits (mm)")
         rate = r.rate(lt.get("max_rate"), lk + ("max_rate",), f"{drive}: max_rate")
         if None in (g, u, b, length):

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from vmach.errors import InputError
+from vmach.output import atomic_writer
 from vmach.stock import cusps, engine
 from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, clip, shape, sweep_shape
@@ -116,6 +117,21 @@ def _outside_runs(poses: np.ndarray, runs: np.ndarray) -> np.ndarray:
     for a, b in runs:
         covered[a : b + 1] = True
     return poses[~covered[poses]]
+
+
+def export_target(path: str | Path) -> Path:
+    """``path`` as an export target — a known format (EXPORT_FORMATS) in a directory that
+    exists — checked before any work is done (InputError otherwise)."""
+    p = Path(path)
+    if p.suffix.lower() not in EXPORT_FORMATS:
+        raise InputError(f"{p}: export format must be one of {', '.join(EXPORT_FORMATS)}",
+                         kind="export_format")
+    parent = p.parent if str(p.parent) else Path(".")
+    if p.is_dir():
+        raise InputError(f"{p}: is a directory", kind="unwritable")
+    if not parent.is_dir():
+        raise InputError(f"{p}: the directory {parent} does not exist", kind="unwritable")
+    return p
 
 
 class Stock:
@@ -363,7 +379,8 @@ class Stock:
 
     def _blank_hull(self) -> None:
         """The blank's convex hull: its face planes and vertices, and whether the blank is
-        convex (its volume is its hull's, to 1e-9)."""
+        convex (its volume is its hull's, to 1e-9; a blank too small for a hull of four planes
+        is not taken for convex)."""
         if self._blank_planes is None:
             v, _ = engine.to_mesh(self.initial, double=True)
             hull = engine.hull(v)
@@ -371,7 +388,8 @@ class Stock:
             self._blank_planes = shape(hv, hf).planes
             self._blank_points = hv
             vol = engine.volume(hull)
-            self._blank_convex = abs(vol - engine.volume(self.initial)) <= 1e-9 * max(vol, 1.0)
+            self._blank_convex = (len(self._blank_planes) >= 4
+                                  and abs(vol - engine.volume(self.initial)) <= 1e-9 * max(vol, 1.0))
 
     def blank_holds(self, points: np.ndarray) -> np.ndarray:
         """(k,) bool: points (k, 3) that lie inside the blank, 1e-6 mm or more from its
@@ -709,19 +727,18 @@ class Stock:
 
     def export(self, path: str | Path, which: str = "part") -> Path:
         """Write the part (``which="part"``) or the removed volume (``"removed"``) as .stl,
-        .3mf or .ply (trimesh)."""
+        .3mf or .ply (trimesh), whole or not at all (:func:`vmach.output.atomic_writer`)."""
         import trimesh
 
-        p = Path(path)
-        if p.suffix.lower() not in EXPORT_FORMATS:
-            raise InputError(f"{p}: export format must be one of {', '.join(EXPORT_FORMATS)}",
-                             kind="export_format")
+        p = export_target(path)
         if which not in ("part", "removed"):
             raise InputError(f"export: which must be 'part' or 'removed', not {which!r}",
                              kind="export_format")
         v, f = self.mesh(which)
+        data = trimesh.Trimesh(v, f, process=False).export(file_type=p.suffix.lower()[1:])
         try:
-            trimesh.Trimesh(v, f, process=False).export(p)
+            with atomic_writer(p, "wb") as fh:
+                fh.write(data if isinstance(data, bytes) else data.encode())
         except OSError as exc:
             raise InputError(f"{p}: cannot write: {exc.strerror or exc}", kind="unwritable") from None
         return p
