@@ -175,3 +175,9 @@ def test_loadtl_beyond_an_integer_is_a_syntax_error_and_keeps_the_tool():
     cl = parse_cl("LOADTL/3\nGOTO/1,2,3\nLOADTL/inf,IN,1\nGOTO/1,2,4\nLOADTL/1e300\nGOTO/1,2,5\n", "t.cl")
     assert cl.tool.tolist() == [3, 3, 3]
     assert [(f.kind, f.line) for f in cl.findings] == [("cl_syntax", 3), ("cl_syntax", 5)]
+    # an axis of 1e308 components overflowed its norm and matched any pose; a NaN feed passed;
+    # CL data without a pose "passed" every move
+    cl = parse_cl("GOTO/-10,-10,0,1e308,1e308,1e308\nFEDRAT/nan\nGOTO/1,2,3\n", "t.cl")
+    assert len(cl) == 1 and [(f.kind, f.line) for f in cl.findings] == [("cl_syntax", 1), ("cl_syntax", 2)]
+    empty = parse_cl("$$ nothing\n", "t.cl")
+    assert [(f.kind, f.severity) for f in empty.findings] == [("cl_syntax", "error")]

@@ -98,8 +98,8 @@ def parse_cl(text: str, path: str = "<cl>") -> ClData:
             except ValueError:
                 found.append(error("cl_syntax", f"GOTO needs numbers: {args!r}", src))
                 continue
-            if len(vals) not in (3, 6) or not all(math.isfinite(v) for v in vals):
-                found.append(error("cl_syntax", "GOTO needs x,y,z or x,y,z,i,j,k", src))
+            if len(vals) not in (3, 6) or not all(math.isfinite(v) and abs(v) <= 1e9 for v in vals):
+                found.append(error("cl_syntax", "GOTO needs x,y,z or x,y,z,i,j,k (finite, within 1e9)", src))
                 continue
             if len(vals) == 6:
                 a = np.array(vals[3:])
@@ -120,8 +120,10 @@ def parse_cl(text: str, path: str = "<cl>") -> ClData:
         elif word == "FEDRAT":
             try:
                 f = float(fields[0])
+                if not (math.isfinite(f) and f > 0):
+                    raise ValueError(f)
             except (ValueError, IndexError):
-                found.append(error("cl_syntax", "FEDRAT needs a number", src))
+                found.append(error("cl_syntax", "FEDRAT needs a number > 0", src))
                 continue
             unit = fields[1].upper() if len(fields) > 1 else "MMPM"
             if unit not in ("MMPM", "IPM", "MMPR", "IPR"):
@@ -149,6 +151,9 @@ def parse_cl(text: str, path: str = "<cl>") -> ClData:
         elif word not in IGNORED:
             found.append(warning("cl_unsupported", f"unknown CL statement {word}", src))
     n = len(sources)
+    if n == 0 and not any(f.severity == "error" for f in found):
+        found.append(error("cl_syntax", "no GOTO pose in the CL data: nothing to check against",
+                           SourceRef(path, 1, 1, "")))
     return ClData(path, np.array(tips, float).reshape(n, 3), np.array(axes, float).reshape(n, 3),
                   np.array(rapids, bool), np.array(feeds, float), np.array(tools, int),
                   tuple(sources), tuple(found))
