@@ -108,8 +108,13 @@ def read_setup(program: str | Path) -> Setup:
     base = path.parent
     machine = data.get("machine")
     tools = data.get("tools")
+    try:
+        model = resolve_model(machine, base) if machine else None
+    except InputError as exc:
+        raise InputError(f"{SETUP_NAME}: {exc.message}", kind=exc.kind,
+                         source=places.find(where["machine"])) from None
     return Setup(
-        machine=resolve_model(machine, base) if machine else None,
+        machine=model,
         tools=(base / tools) if tools else None,
         stock=data.get("stock"),
         profile=data.get("profile"),

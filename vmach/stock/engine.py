@@ -56,8 +56,11 @@ def from_mesh(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh", doubl
         raise StockError(f"{what}: not a triangle mesh", kind="stock_mesh")
     solid = m3d.Manifold(m3d.Mesh(vert_properties=v, tri_verts=f))
     status = solid.status()
-    if status != m3d.Error.NoError or solid.is_empty():
+    if status != m3d.Error.NoError:
         raise StockError(f"{what}: not a closed 2-manifold ({status.name})", kind="stock_mesh")
+    if solid.is_empty():
+        raise StockError(f"{what}: no volume (empty or degenerate, or its coordinates are out of "
+                         "range)", kind="stock_mesh")
     if solid.volume() < 0:  # pragma: no cover - manifold3d orients closed meshes itself
         raise StockError(f"{what}: faces are oriented inward", kind="stock_mesh")
     if double:
