@@ -205,6 +205,8 @@ FUZZED = [
     ("s5d", "radius = 50.0", "radius = 20000.0", "bad_value", 118),
     ("s5d", "size = [160.0, 120.0, 20.0]", "size = [200000.0, 120.0, 20.0]", "bad_value", 126),
     ("h5d", "root = -1", 'root = "x"', "bad_value", 93),
+    ("s5d", 'geometry = ["X", "Y", "Z"]', 'geometry = ["X", "Y", "Q"]', "bad_value", 21),
+    ("s5d", 'geometry = ["X", "Y", "Z"]', 'geometry = ["X", "X", "Z"]', "bad_value", 21),
 ]
 
 

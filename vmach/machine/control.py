@@ -167,8 +167,11 @@ def collect_control(
             home = 0.0
         axes.append(AxisSpec(name=name, kind=kind, modulo=modulo, home=home, g90_mode=g90))
     geometry = ctl.get("geometry", ("X", "Y", "Z"))
-    if not isinstance(geometry, list | tuple) or len(geometry) != 3:
-        bad(("control", "geometry"), "control.geometry must name three axes", "bad_value")
+    if (not isinstance(geometry, list | tuple) or len(geometry) != 3
+            or not all(isinstance(g, str) for g in geometry) or len(set(geometry)) != 3
+            or ("geometry" in ctl and seen and not set(geometry) <= seen)):
+        bad(("control", "geometry"), "control.geometry must name three different axes of the model",
+            "bad_value")
         geometry = ("X", "Y", "Z")
     transverse = ctl.get("transverse")
     if transverse is not None and not isinstance(transverse, str):
