@@ -210,20 +210,21 @@ FUZZED = [
 ]
 
 
+def model_problems(tmp_path, text: str) -> set[tuple[str, int]]:
+    """(kind, line) of the problems a model text raises (it must raise)."""
+    f = tmp_path / "m.toml"
+    f.write_text(text)
+    with pytest.raises(ModelError) as exc:
+        load_model(f)
+    return {(p.kind, p.line) for p in exc.value.findings()}
+
+
 @pytest.mark.parametrize("name, old, new, kind, line", FUZZED)
 def test_fuzzed_model_values_are_findings_at_their_line(tmp_path, name, old, new, kind, line):
     text = (MODELS / f"{name}.toml").read_text()
     assert old in text
-    f = tmp_path / "m.toml"
-    f.write_text(text.replace(old, new, 1))
-    with pytest.raises(ModelError) as exc:
-        load_model(f)
-    assert (kind, line) in {(p.kind, p.line) for p in exc.value.findings()}
+    assert (kind, line) in model_problems(tmp_path, text.replace(old, new, 1))
 
 
 def test_deeply_nested_toml_is_a_syntax_error(tmp_path):
-    f = tmp_path / "deep.toml"
-    f.write_text("a = " + "[" * 1000 + "]" * 1000 + "\n")
-    with pytest.raises(ModelError) as exc:
-        load_model(f)
-    assert [p.kind for p in exc.value.findings()] == ["model_syntax"]
+    assert model_problems(tmp_path, "a = " + "[" * 1000 + "]" * 1000 + "\n") == {("model_syntax", 1)}

@@ -32,9 +32,18 @@ def test_chamfer_mill_puts_radius_4_at_4_tan_15_behind_the_tip(library):
     assert z4 == pytest.approx(4 * math.tan(math.radians(15)), abs=1e-12)
 
 
+def library_problems(tmp_path, text: str) -> list[tuple[str, int]]:
+    """Sorted (kind, line) of the problems a library text raises (it must raise)."""
+    path = tmp_path / "lib.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(ModelError) as exc:
+        load_tools(path)
+    return sorted((f.kind, f.line) for f in exc.value.findings())
+
+
 def test_bad_library_reports_every_problem_at_its_line(tmp_path):
-    path = tmp_path / "bad.toml"
-    path.write_text(
+    got = library_problems(
+        tmp_path,
         "[[tool]]\n"                      # 1
         'name = "A"\n'                    # 2
         'type = "flat"\n'                 # 3
@@ -52,11 +61,7 @@ def test_bad_library_reports_every_problem_at_its_line(tmp_path):
         "diameter = 8\n"                  # 15
         "cutting_length = 5\n"            # 16
         "corner_radius = 6\n",            # 17
-        encoding="utf-8",
     )
-    with pytest.raises(ModelError) as exc:
-        load_tools(path)
-    got = sorted((f.kind, f.line) for f in exc.value.findings())
     assert got == [("tool_library", 4), ("tool_library", 8), ("tool_library", 11), ("tool_library", 17)]
 
 
@@ -112,8 +117,8 @@ def test_straddling_polygon_deviation_is_within_the_chord():
 def test_tool_sizes_beyond_any_machine_are_library_errors(tmp_path):
     """Found by fuzzing: a mistyped size must be a finding at its line, not an attempt to
     polygonise a kilometre-wide cutter."""
-    path = tmp_path / "big.toml"
-    path.write_text(
+    got = library_problems(
+        tmp_path,
         "[[tool]]\n"                                         # 1
         'name = "A"\n'                                       # 2
         'type = "flat"\n'                                    # 3
@@ -125,9 +130,5 @@ def test_tool_sizes_beyond_any_machine_are_library_errors(tmp_path):
         "diameter = 10\n"                                    # 9
         "cutting_length = 10\n"                              # 10
         "holder = { diameter = 63.0, length = 1e12 }\n",     # 11
-        encoding="utf-8",
     )
-    with pytest.raises(ModelError) as exc:
-        load_tools(path)
-    got = sorted((f.kind, f.line) for f in exc.value.findings())
     assert got == [("tool_library", 4), ("tool_library", 11)]
