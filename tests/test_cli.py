@@ -230,3 +230,13 @@ def test_ik_on_a_model_without_axes_and_export_without_a_stock_are_usage_errors(
                  "--export", str(tmp_path / "second.xyz")]) == 2
     assert "error[export_format]" in capsys.readouterr().err
     assert not first.exists() and not (tmp_path / "o").exists()
+
+
+def test_an_endless_cycle_time_is_null_in_the_report_not_a_crash(tmp_path, capsys):
+    """Found by fuzzing: two dwells of 1e308 s summed to inf; the summary's int(inf // 60)
+    raised, and report.json held `Infinity` (not JSON)."""
+    p = prog(tmp_path, "G4 F=1EX308\nG4 F=1EX308\nM30\n")
+    out = tmp_path / "o"
+    assert main(["verify", p, "--machine", "turnmill", "--no-images", "--out", str(out)]) == 0
+    data = json.loads((out / "report.json").read_text(), parse_constant=lambda c: pytest.fail(c))
+    assert data["cycle_time_s"] is None

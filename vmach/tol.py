@@ -33,6 +33,13 @@ class Tolerances:
     #: while the table is built): a helix of a billion turns (``TURN=1000000000``) must be an
     #: error, not an attempt to allocate terabytes.
     max_moves: int = 5_000_000
+    #: Most sampled poses of one tool's path in the stock simulation (each costs ~30 kB on the
+    #: way: a C1=IC(1EX6) turn, 500,000 poses, took 7.7 GB); the polygon-shaft program's
+    #: longest path has 6,763.
+    max_poses: int = 100_000
+    #: Most poses the collision checks sample along the program (~3 kB each: a turn of a
+    #: million degrees sampled 2.8 million and took 7.6 GB).
+    max_samples: int = 1_000_000
     #: Default block limit for interpreters (infinite-loop guard).
     max_blocks: int = 10_000_000
     #: Default subprogram call depth limit (Sinumerik allows 16 levels incl. main program).

@@ -23,6 +23,10 @@ _PLANES = {
 }
 
 
+#: most pecks one G73/G83 may make (a Q of 1e-9 mm made pecks until the memory ran out)
+MAX_PECKS = 100_000
+
+
 class CycleMixin:
     def convert_cycle(self, motion: int, block: blk.Block) -> None:
         s = self.s
@@ -151,7 +155,14 @@ class CycleMixin:
                 raise NgcError("cycle_q_not_positive")
             delta = G83_RAPID_DELTA_INCH * (25.4 if s.metric else 1.0)
             depth = r - q
+            if (depth - bottom) / q > MAX_PECKS or depth - q == depth:
+                raise NgcError("resource_limit", what=f"a peck cycle of {(r - bottom) / q:.6g} pecks",
+                               limit=f"{MAX_PECKS} pecks")
             while depth > bottom:
+                # each peck counts against --max-blocks (Q0.000001 made pecks without end)
+                self.blocks += 1
+                if self.blocks > self.options.max_blocks:
+                    raise NgcError("block_limit", limit=self.options.max_blocks)
                 move(aa, bb, depth, False)
                 if motion == 830:
                     move(aa, bb, r, True)

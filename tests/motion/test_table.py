@@ -116,3 +116,22 @@ def test_an_arc_or_a_program_beyond_the_tables_size_is_a_resource_limit_at_its_l
         with pytest.raises(ProgramError) as exc:
             build(r.commands, DEFAULT_CONTROL, max_moves=most)
         assert (exc.value.kind, exc.value.source.line) == ("resource_limit", line)
+
+
+def test_huge_arcs_and_positions_beyond_any_machine_are_resource_limits(tmp_path):
+    """Found by fuzzing: an arc of radius 1e300 divided by a zero angle step (now: arcs of a
+    radius up to 1e9 mm are cut into chords, beyond that a resource_limit); a TRANS of 1e200
+    mm made the collision sampler ask for an array of negative size (now: beyond tol.max_size
+    is a resource_limit at the move)."""
+    from vmach.errors import ProgramError
+
+    t = build(ok(tmp_path, "G0 X40 Y0 Z0\nG2 X41 Y0 CR=1EX8 F100\nM30\n").commands, DEFAULT_CONTROL)
+    assert list(t.kind) == [TRAVERSE, ARC] and t.end[-1, 0] == 41
+    for text, line in (("G0 X40 Y0 Z0\nG2 X41 Y0 CR=1EX300 F100\nM30\n", 2),
+                       ("G0 X40 Y0 Z0\nTRANS Z=1EX200\nG0 Z0\nM30\n", 3),
+                       ("G0 X40 Y0 Z0\nG1 X=10001 F100\nM30\n", 2)):
+        r = ok(tmp_path, text)
+        with pytest.raises(ProgramError) as exc:
+            build(r.commands, DEFAULT_CONTROL)
+        assert (exc.value.kind, exc.value.source.line) == ("resource_limit", line)
+    assert len(build(ok(tmp_path, "G0 X40 Y0 Z0\nG1 X=9999 F100\nM30\n").commands, DEFAULT_CONTROL)) == 2

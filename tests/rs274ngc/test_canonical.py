@@ -177,3 +177,14 @@ def test_canned_cycle_repeats_count_against_the_block_limit(tmp_path):
     assert (r.findings[-1].kind, r.findings[-1].line) == ("block_limit", 2)
     r = _run(tmp_path, "G20 G91\nG81 X1 Y0 Z-1 R1 L5 F10\nM2\n", options=RunOptions(max_blocks=500))
     assert r.completed
+
+
+def test_a_peck_cycle_beyond_vmachs_peck_limit_is_a_resource_limit(tmp_path):
+    """Found by fuzzing: G83 with Q0.000001 made pecks until the memory ran out (and a Q too
+    small to change the depth in floating point looped for ever)."""
+    for q, z in (("0.000000001", "-5"), ("0.001", "-1000000000")):
+        r = _run(tmp_path, f"G21 G90\nG0 X0 Y0 Z30\nG83 X10 Y10 Z{z} R2 Q{q} F100\nM2\n")
+        assert not r.completed
+        assert (r.findings[-1].kind, r.findings[-1].line) == ("resource_limit", 3)
+    r = _run(tmp_path, "G21 G90\nG0 X0 Y0 Z30\nG83 X10 Y10 Z-5 R2 Q0.5 F100\nM2\n")
+    assert r.completed

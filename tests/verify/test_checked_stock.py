@@ -238,3 +238,19 @@ def test_a_rapid_through_cleared_material_costs_no_move_by_move_cut(tmp_path, mo
     errors = [(f.kind, f.line) for f in sim.findings if f.severity == "error"]
     assert errors == [("rapid_into_stock", _line(low, "N310"))]
     assert moved
+
+
+def test_a_turn_of_a_million_degrees_is_a_resource_limit_not_a_memory_blow_up(tmp_path):
+    """Found by fuzzing: `G1 C1=IC(1EX6)` sampled 500,000 stock poses (7.7 GB) and, without a
+    stock, 2.8 million collision samples (7.6 GB); `C1=IC(1EX10)` asked numpy for 37 GiB."""
+    from vmach.errors import ProgramError
+    from vmach.verify import VerifyOptions, verify
+
+    cut = dict(tools=str(POLYGON_TOOLS), stock="cylinder:d=60,l=100")
+    for turn, opts in (("1EX6", cut), ("1EX10", cut), ("1EX6", {})):
+        path = tmp_path / "C.MPF"
+        head = 'T="GLOD D40" D1\nSETMS(2)\nG94 S2=640 M2=3\nG0 X40 Y0 Z5\n'
+        path.write_text(f"{head}G1 C1=IC({turn}) F100\nM30\n")
+        with pytest.raises(ProgramError) as exc:
+            verify(path, VerifyOptions(machine="turnmill", images=False, quiet=True, **opts))
+        assert (exc.value.kind, exc.value.source.line) == ("resource_limit", 5)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vmach.errors import ProgramError
 from vmach.findings import Finding
 from vmach.motion.table import TRAVERSE, MoveTable
 from vmach.tol import tol
@@ -157,7 +158,13 @@ def sample_moves(
     d = b - a
     lin = np.linalg.norm(d[:, ~table.rotary], axis=1) if (~table.rotary).any() else np.zeros(len(rows))
     rot = np.abs(d[:, table.rotary]).sum(axis=1) * math.radians(1) * reach if table.rotary.any() else 0.0
-    n = np.maximum(1, np.ceil((lin + rot) / step)).astype(int)
+    n = np.maximum(1, np.ceil((lin + rot) / step))
+    if not n.sum() <= tol.max_samples:
+        worst = int(np.argmax(np.nan_to_num(n, nan=np.inf)))
+        raise ProgramError("resource_limit", f"checking collisions along the move needs {n[worst]:.3g} "
+                           f"samples of {step:g} mm (vmach's limit: {tol.max_samples} in all)",
+                           table.source(int(rows[worst])))
+    n = n.astype(int)
     owner = np.repeat(np.arange(len(rows)), n + 1)
     t = np.concatenate([np.linspace(0.0, 1.0, k + 1) for k in n])
     q = a[owner] + t[:, None] * d[owner]

@@ -99,7 +99,8 @@ def summary(report, out: Path) -> str:
     )
     if d["cycle_time_s"] is not None:
         t = d["cycle_time_s"]
-        lines.append(f"cycle time {int(t // 60)} min {t % 60:04.1f} s")
+        lines.append(f"cycle time {int(t // 60)} min {t % 60:04.1f} s" if t < 1e9
+                     else f"cycle time {t:.3g} s")
     if d["simulation"]:
         m = d["simulation"]
         b = m["error_bounds_mm"]

@@ -211,6 +211,17 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
         [(control.axis(a).kind == "rotary") if control.axis(a) else a[0] in "ABC" for a in names], dtype=bool
     )
     rotary.setflags(write=False)
+    if n:
+        # a linear position beyond any machine (a TRANS or G92 of 1e16 mm) would make every
+        # later stage sample an absurd path: vmach's limit, at the first move that reaches it
+        ends_linear = np.abs(np.asarray(ends, float)[:, ~rotary])
+        far = ~(ends_linear <= tol.max_size)
+        if far.any():
+            row, col_ix = np.argwhere(far)[0]
+            axis = [a for a, r in zip(names, rotary, strict=True) if not r][col_ix]
+            value = ends[row][col[axis]]
+            raise ProgramError("resource_limit", f"{axis} = {value:.6g} mm is beyond any machine (vmach's "
+                               f"limit: {tol.max_size:g} mm)", commands[cmds[row]].source)
     return MoveTable(
         axes=tuple(names),
         rotary=rotary,
@@ -262,10 +273,14 @@ def arc_points(
             sweep += 2 * math.pi
         sweep += 2 * math.pi * arc.turns
     r = max(r0, r1)
+    if not r <= 1e9:
+        raise ProgramError("resource_limit", f"an arc of radius {r:.6g} mm (vmach's limit: 1e+09 mm)",
+                           arc.source)
     if r <= chord:
         step = math.pi / 2
     else:
-        step = 2 * math.acos(max(-1.0, 1 - chord / r))
+        # (for chord/r below ~1e-16 acos rounds to 0: its series, 2·sqrt(2·chord/r))
+        step = 2 * math.acos(max(-1.0, 1 - chord / r)) or 2 * math.sqrt(2 * chord / r)
     m = max(1, math.ceil(abs(sweep) / step))
     if m > most:
         raise ProgramError("resource_limit", f"an arc of {abs(sweep) / (2 * math.pi):.6g} turns needs {m} "

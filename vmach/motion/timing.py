@@ -17,6 +17,7 @@ times in the model's ``[timing]`` table; M0/M1 are counted as 0 s with a note.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,6 +33,11 @@ from vmach.tol import tol
 
 PER_MINUTE, PER_REV, INVERSE_TIME = 0, 1, 2
 NO_TOOL = "(no tool)"
+
+
+def _seconds(value: float, digits: int = 3) -> float | None:
+    """A time for JSON: rounded, or None when it is not finite (JSON has no Infinity)."""
+    return round(value, digits) if math.isfinite(value) else None
 
 
 @dataclass(frozen=True)
@@ -108,16 +114,16 @@ class Timing:
 
     def to_json(self) -> dict[str, Any]:
         return {
-            "total_s": round(self.total_s, 3),
-            "feed_s": round(self.feed_s, 3),
-            "rapid_s": round(self.rapid_s, 3),
-            "events_s": {k: round(v, 3) for k, v in self.by_kind.items()},
+            "total_s": _seconds(self.total_s, 3),
+            "feed_s": _seconds(self.feed_s, 3),
+            "rapid_s": _seconds(self.rapid_s, 3),
+            "events_s": {k: _seconds(v, 3) for k, v in self.by_kind.items()},
             "acceleration": self.acceleration,
-            "per_tool": {k: round(v, 3) for k, v in self.per_tool.items()},
+            "per_tool": {k: _seconds(v, 3) for k, v in self.per_tool.items()},
             "operations": [
                 {"name": o.name, "tool": o.tool, "file": o.file, "line": o.line,
-                 "seconds": round(o.seconds, 3), "feed_s": round(o.feed_s, 3),
-                 "rapid_s": round(o.rapid_s, 3), "events_s": round(o.event_s, 3)}
+                 "seconds": _seconds(o.seconds, 3), "feed_s": _seconds(o.feed_s, 3),
+                 "rapid_s": _seconds(o.rapid_s, 3), "events_s": _seconds(o.event_s, 3)}
                 for o in self.operations
             ],
             "notes": list(self.notes),

@@ -21,6 +21,7 @@ from functools import partial
 
 import numpy as np
 
+from vmach.errors import ProgramError
 from vmach.findings import Finding, warning
 from vmach.motion.table import TRAVERSE
 from vmach.stock import engine
@@ -76,6 +77,15 @@ class Snapshot:
         return self._mesh
 
 
+class SampleLimit(Exception):
+    """A path's rows need more samples than ``tol.max_poses``: ``row`` (index in the path, the
+    row that needs most) needs ``count``."""
+
+    def __init__(self, row: int, count: int):
+        super().__init__(row, count)
+        self.row, self.count = row, count
+
+
 def sample_rows(start: np.ndarray, end: np.ndarray, rotary: np.ndarray, fk,
                 angle: float = tol.sweep_angle, step: float = tol.sweep_step):
     """Axis values of one connected path of rows, sampled for cutting.
@@ -93,6 +103,8 @@ def sample_rows(start: np.ndarray, end: np.ndarray, rotary: np.ndarray, fk,
         m = int((rot > 0).sum())
         travel = np.linalg.norm(ends.tip[:m] - ends.tip[m:], axis=1)
         k[rot > 0] = rotary_substeps(rot[rot > 0], travel, angle, step)
+    if k.sum() > tol.max_poses:
+        raise SampleLimit(int(np.argmax(k)), int(k.max()))
     total = int(k.sum())
     row = np.repeat(np.arange(len(start)), k)
     first = np.r_[0, np.cumsum(k)[:-1]]
@@ -145,7 +157,12 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
                     "remove no material", table.source(a), tool=name))
             continue
         tk = time.perf_counter()
-        q, k = sample_rows(q0[a:b], q1[a:b], rotary, model.fk, angle, step)
+        try:
+            q, k = sample_rows(q0[a:b], q1[a:b], rotary, model.fk, angle, step)
+        except SampleLimit as exc:
+            raise ProgramError("resource_limit", f"the tool's path needs {exc.count} poses of at most "
+                               f"{angle:g}° at this move (vmach's limit: {tol.max_poses} per path)",
+                               table.source(a + exc.row)) from None
         pose = model.fk(q)
         res.kinematics_seconds += time.perf_counter() - tk
         if checks:

@@ -165,4 +165,6 @@ def rotary_substeps(delta_deg: np.ndarray, tip_travel: np.ndarray,
     delta = np.abs(np.asarray(delta_deg, dtype=float))
     travel = np.asarray(tip_travel, dtype=float)
     k = np.maximum(np.ceil(delta / angle), np.ceil(travel / step))
-    return np.where(delta > 0, np.maximum(k, 1), 1).astype(int)
+    k = np.where(delta > 0, np.maximum(k, 1), 1)
+    # beyond any table vmach builds (callers refuse such moves): no int overflow
+    return np.minimum(np.nan_to_num(k, nan=1.0, posinf=2.0**62), 2.0**62).astype(np.int64)
