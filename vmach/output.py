@@ -15,30 +15,39 @@ from vmach.errors import InputError
 @contextmanager
 def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO]:
     """Write to a temporary file beside ``path`` and rename it into place on success only."""
-    target = Path(path)
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
-        raise InputError(f"{path}: the directory {directory} does not exist", kind="unwritable")
-    if target.is_dir():
-        raise InputError(f"{path}: is a directory", kind="unwritable")
+    target = writable_file(path)
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=directory)
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
     except OSError as exc:
-        raise InputError(f"{path}: cannot write there: {exc.strerror or exc}", kind="unwritable") from None
+        raise _unwritable(path, exc) from None
     try:
         with os.fdopen(fd, mode, encoding=None if "b" in mode else "utf-8") as fh:
             yield fh
         try:
             os.replace(tmp, target)
         except OSError as exc:
-            raise InputError(f"{path}: cannot write there: {exc.strerror or exc}",
-                             kind="unwritable") from None
+            raise _unwritable(path, exc) from None
     except BaseException:
         try:
             os.unlink(tmp)
         except OSError:
             pass
         raise
+
+
+def _unwritable(path, exc: OSError) -> InputError:
+    return InputError(f"{path}: cannot write there: {exc.strerror or exc}", kind="unwritable")
+
+
+def writable_file(path: str | Path) -> Path:
+    """``path`` as a file vmach may write: not a directory, in a directory that exists
+    (:class:`InputError` otherwise). Checks only; ``Path(path).parent`` is ``.`` for a bare name."""
+    target = Path(path)
+    if target.is_dir():
+        raise InputError(f"{path}: is a directory", kind="unwritable")
+    if not target.parent.is_dir():
+        raise InputError(f"{path}: the directory {target.parent} does not exist", kind="unwritable")
+    return target
 
 
 def writable_dir(path: str | Path) -> Path:

@@ -29,6 +29,10 @@ class Tolerances:
     #: round blank's polygon and the trim slabs' 1 mm bins grow with size, so a mistyped
     #: ``d=60e6`` must be an error, not an attempt to allocate petabytes).
     max_size: float = 10_000.0
+    #: Largest magnitude of any number read from a model or CL file, and of an arc's radius
+    #: (mm, degrees, mm/min): far beyond any machine, small enough that squares and products
+    #: stay finite.
+    max_magnitude: float = 1e9
     #: Most rows a move table holds (arcs count as their chords; each row costs about 0.7 kB
     #: while the table is built): a helix of a billion turns (``TURN=1000000000``) must be an
     #: error, not an attempt to allocate terabytes.

@@ -114,10 +114,7 @@ class CycleMixin:
 
         for repeat in range(repeats, 0, -1):
             if repeat < repeats:
-                # each further repeat counts against --max-blocks (L1000000000 filled the memory)
-                self.blocks += 1
-                if self.blocks > self.options.max_blocks:
-                    raise NgcError("block_limit", limit=self.options.max_blocks)
+                self._count_block()     # L1000000000 filled the memory
             aa += inc_a
             bb += inc_b
             if repeat == repeats and current_cc > r:
@@ -140,6 +137,12 @@ class CycleMixin:
             out.set_motion_control_mode(save[0], save[1])
             out.set_naivecam_tolerance(save[2])
 
+    def _count_block(self) -> None:
+        """A cycle's further repeat or peck counts as a block against ``--max-blocks``."""
+        self.blocks += 1
+        if self.blocks > self.options.max_blocks:
+            raise NgcError("block_limit", limit=self.options.max_blocks)
+
     def _cycle_body(self, motion, move, aa, bb, r, clear, bottom, dwell, q) -> None:
         out = self.out
         s = self.s
@@ -159,10 +162,7 @@ class CycleMixin:
                 raise NgcError("resource_limit", what=f"a peck cycle of {(r - bottom) / q:.6g} pecks",
                                limit=f"{MAX_PECKS} pecks")
             while depth > bottom:
-                # each peck counts against --max-blocks (Q0.000001 made pecks without end)
-                self.blocks += 1
-                if self.blocks > self.options.max_blocks:
-                    raise NgcError("block_limit", limit=self.options.max_blocks)
+                self._count_block()     # Q0.000001 made pecks without end
                 move(aa, bb, depth, False)
                 if motion == 830:
                     move(aa, bb, r, True)

@@ -608,8 +608,6 @@ class BlockParser:
         return f"unknown word {full or name!r}{hint}"
 
 
-
-
 def _machine_code(name: str) -> Code:
     return Code(name, -1, "machine", False, "codes")
 

@@ -27,6 +27,7 @@ import numpy as np
 from vmach.files import decode_text, read_bytes
 from vmach.findings import Finding, error, warning
 from vmach.source import SourceRef
+from vmach.tol import tol
 
 IGNORED = {"PARTNO", "CUTTER", "SPINDL", "COOLNT", "FINI", "END", "TLAXIS", "CLPRNT", "INTOL",
            "OUTTOL", "MACHIN", "SELCTL", "TOLER", "NOPS", "OPSKIP", "DISPLY", "TPRINT", "INSERT",
@@ -98,8 +99,10 @@ def parse_cl(text: str, path: str = "<cl>") -> ClData:
             except ValueError:
                 found.append(error("cl_syntax", f"GOTO needs numbers: {args!r}", src))
                 continue
-            if len(vals) not in (3, 6) or not all(math.isfinite(v) and abs(v) <= 1e9 for v in vals):
-                found.append(error("cl_syntax", "GOTO needs x,y,z or x,y,z,i,j,k (finite, within 1e9)", src))
+            big = tol.max_magnitude
+            if len(vals) not in (3, 6) or not all(math.isfinite(v) and abs(v) <= big for v in vals):
+                found.append(error("cl_syntax", f"GOTO needs x,y,z or x,y,z,i,j,k (finite, within "
+                                                f"{tol.max_magnitude:g})", src))
                 continue
             if len(vals) == 6:
                 a = np.array(vals[3:])

@@ -58,9 +58,6 @@ from vmach.tol import tol
 
 IK_METHODS = ("numeric", "table_table", "head_bc")
 UNIT_TOL = 1e-9
-#: largest magnitude of any number in a model (mm, degrees, mm/min): far beyond any machine,
-#: small enough that squares and products stay finite
-MAGNITUDE = 1e9
 #: smallest max_rate (mm/min or degrees/min): a denormal rate made times infinite
 MIN_RATE = 1e-6
 
@@ -129,7 +126,7 @@ class Reader:
 
     # -- typed getters -------------------------------------------------------------------------
     def scalar(self, value: Any, key: tuple, what: str) -> float | None:
-        """A number or a scalar parameter reference: finite, and within ``MAGNITUDE``."""
+        """A number or a scalar parameter reference: finite, and within ``tol.max_magnitude``."""
         v: Any = None
         if _is_num(value):
             try:
@@ -141,9 +138,9 @@ class Reader:
             if v is None:
                 return None
         if isinstance(v, float):
-            if math.isfinite(v) and abs(v) <= MAGNITUDE:
+            if math.isfinite(v) and abs(v) <= tol.max_magnitude:
                 return v
-            self.err("bad_value", f"{what} must be a finite number within ±{MAGNITUDE:g}", key)
+            self.err("bad_value", f"{what} must be a finite number within ±{tol.max_magnitude:g}", key)
             return None
         self.err("bad_value", f"{what} must be a number", key)
         return None

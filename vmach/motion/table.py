@@ -273,9 +273,9 @@ def arc_points(
             sweep += 2 * math.pi
         sweep += 2 * math.pi * arc.turns
     r = max(r0, r1)
-    if not r <= 1e9:
-        raise ProgramError("resource_limit", f"an arc of radius {r:.6g} mm (vmach's limit: 1e+09 mm)",
-                           arc.source)
+    if not r <= tol.max_magnitude:
+        raise ProgramError("resource_limit", f"an arc of radius {r:.6g} mm (vmach's limit: "
+                           f"{tol.max_magnitude:g} mm)", arc.source)
     if r <= chord:
         step = math.pi / 2
     else:

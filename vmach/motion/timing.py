@@ -35,9 +35,9 @@ PER_MINUTE, PER_REV, INVERSE_TIME = 0, 1, 2
 NO_TOOL = "(no tool)"
 
 
-def _seconds(value: float, digits: int = 3) -> float | None:
-    """A time for JSON: rounded, or None when it is not finite (JSON has no Infinity)."""
-    return round(value, digits) if math.isfinite(value) else None
+def _seconds(value: float) -> float | None:
+    """A time for JSON, s: rounded to ms, or None when it is not finite (JSON has no Infinity)."""
+    return round(value, 3) if math.isfinite(value) else None
 
 
 @dataclass(frozen=True)
@@ -114,16 +114,16 @@ class Timing:
 
     def to_json(self) -> dict[str, Any]:
         return {
-            "total_s": _seconds(self.total_s, 3),
-            "feed_s": _seconds(self.feed_s, 3),
-            "rapid_s": _seconds(self.rapid_s, 3),
-            "events_s": {k: _seconds(v, 3) for k, v in self.by_kind.items()},
+            "total_s": _seconds(self.total_s),
+            "feed_s": _seconds(self.feed_s),
+            "rapid_s": _seconds(self.rapid_s),
+            "events_s": {k: _seconds(v) for k, v in self.by_kind.items()},
             "acceleration": self.acceleration,
-            "per_tool": {k: _seconds(v, 3) for k, v in self.per_tool.items()},
+            "per_tool": {k: _seconds(v) for k, v in self.per_tool.items()},
             "operations": [
                 {"name": o.name, "tool": o.tool, "file": o.file, "line": o.line,
-                 "seconds": _seconds(o.seconds, 3), "feed_s": _seconds(o.feed_s, 3),
-                 "rapid_s": _seconds(o.rapid_s, 3), "events_s": _seconds(o.event_s, 3)}
+                 "seconds": _seconds(o.seconds), "feed_s": _seconds(o.feed_s),
+                 "rapid_s": _seconds(o.rapid_s), "events_s": _seconds(o.event_s)}
                 for o in self.operations
             ],
             "notes": list(self.notes),

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from vmach.errors import InputError
-from vmach.output import atomic_writer
+from vmach.output import atomic_writer, writable_file
 from vmach.stock import cusps, engine
 from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, clip, shape, sweep_shape
@@ -126,12 +126,7 @@ def export_target(path: str | Path) -> Path:
     if p.suffix.lower() not in EXPORT_FORMATS:
         raise InputError(f"{p}: export format must be one of {', '.join(EXPORT_FORMATS)}",
                          kind="export_format")
-    parent = p.parent if str(p.parent) else Path(".")
-    if p.is_dir():
-        raise InputError(f"{p}: is a directory", kind="unwritable")
-    if not parent.is_dir():
-        raise InputError(f"{p}: the directory {parent} does not exist", kind="unwritable")
-    return p
+    return writable_file(p)
 
 
 class Stock:
