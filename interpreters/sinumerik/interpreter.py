@@ -55,8 +55,9 @@ def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
     return Loaded(program, findings)
 
 
-def find_subprogram(directory: Path, name: str) -> Path | None:
-    """``NAME.SPF`` or ``NAME.MPF`` in ``directory`` (case-insensitive), never elsewhere."""
+def _entry(directory: Path, name: str) -> Path | None:
+    """The entry ``NAME.SPF`` or ``NAME.MPF`` of ``directory`` (case-insensitive, SPF first),
+    wherever it leads."""
     if not name or any(ch in name for ch in "/\\:") or name in (".", ".."):
         return None
     wanted = {name.upper() + s for s in PROGRAM_SUFFIXES}
@@ -68,9 +69,22 @@ def find_subprogram(directory: Path, name: str) -> Path | None:
         for entry in entries:
             if entry.upper() == name.upper() + suffix and entry.upper() in wanted:
                 p = directory / entry
-                if p.is_file() and p.resolve().parent == directory.resolve():
+                if p.is_file():
                     return p
     return None
+
+
+def find_subprogram(directory: Path, name: str) -> Path | None:
+    """``NAME.SPF`` or ``NAME.MPF`` in ``directory`` (case-insensitive), never elsewhere."""
+    p = _entry(directory, name)
+    return p if p is not None and p.resolve().parent == directory.resolve() else None
+
+
+def linked_outside(directory: Path, name: str) -> Path | None:
+    """The entry for ``name`` in ``directory`` when it is a link to a file outside it (which
+    :func:`find_subprogram` refuses), else None."""
+    p = _entry(directory, name)
+    return p if p is not None and p.resolve().parent != directory.resolve() else None
 
 
 class Interpreter:
@@ -215,6 +229,11 @@ class Interpreter:
             Path(self.stack[-1].loaded.program.path).resolve().parent if self.stack else self.directory
         )
         path = find_subprogram(caller_dir, name)
+        if path is None and (link := linked_outside(caller_dir, name)) is not None:
+            raise ProgramError(
+                "subprogram_outside", f"{name}: {link.name} leads outside the program's directory "
+                f"(to {link.resolve()}); vmach reads subprograms only from {caller_dir}", src
+            )
         if path is None:
             raise ProgramError(
                 "subprogram_not_found", f"{name}: no {name}.SPF or {name}.MPF in {caller_dir}", src
@@ -342,4 +361,4 @@ def _like(old, v, name: str):
     return _convert("REAL", v, name)
 
 
-__all__ = ["Interpreter", "find_subprogram", "read_program"]
+__all__ = ["Interpreter", "find_subprogram", "linked_outside", "read_program"]

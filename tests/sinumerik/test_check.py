@@ -133,3 +133,14 @@ def test_loop_exits_are_followed(tmp_path):
     # a LOOP without exit makes what follows it unreachable; with an exit it does not
     assert kinds(check(tmp_path, "LOOP\nG0 X1\nENDLOOP\nM30\n")) == [("unreachable_block", 4)]
     assert check(tmp_path, "LOOP\nIF R1 GOTOF OUT\nENDLOOP\nOUT: M30\n") == []
+
+
+def test_a_subprogram_linked_from_outside_is_named_as_such(tmp_path):
+    outside = tmp_path / "EVIL.SPF"
+    outside.write_text("M17\n")
+    job = tmp_path / "job"
+    job.mkdir()
+    (job / "EVIL.SPF").symlink_to(outside)
+    assert kinds(check(job, "G0 X1\nEVIL\nM30\n")) == [("subprogram_outside", 2)]
+    (job / "EVIL.SPF").unlink()
+    assert kinds(check(job, "G0 X1\nEVIL\nM30\n")) == [("unknown_cycle", 2)]

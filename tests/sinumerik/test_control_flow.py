@@ -213,6 +213,22 @@ def test_subprogram_lookup_never_leaves_the_directory(tmp_path):
     assert moves(r) == []
 
 
+def test_a_subprogram_linked_from_outside_the_directory_is_refused_as_such(tmp_path):
+    outside = tmp_path / "EVIL.SPF"
+    outside.write_text("G1 X=666 F1\nM17\n")
+    inner = tmp_path / "job"
+    inner.mkdir()
+    (inner / "EVIL.SPF").symlink_to(outside)
+    r = run(inner, "G1 X1 F1\nEVIL\nM30\n")
+    err = error_of(r)
+    assert (err.kind, err.line) == ("subprogram_outside", 2)
+    assert xs(r) == [1]
+    (inner / "EVIL.SPF").unlink()
+    (inner / "EVIL.SPF").symlink_to(inner / "job.txt")   # a link that stays inside is read
+    (inner / "job.txt").write_text("G1 X7 F1\nM17\n")
+    assert xs(run(inner, "EVIL\nM30\n")) == [7]
+
+
 def test_missing_jump_target_is_an_error_only_when_reached(tmp_path):
     r = run(tmp_path, "R1=1\nIF R1==0 GOTOF NOWHERE\nG1 X1 F1\nIF R1==1 GOTOF NOWHERE\nM30\n")
     err = error_of(r)
