@@ -230,7 +230,10 @@ M30
     assert t.total_s == pytest.approx(t.row_seconds.sum() + t.event_seconds.sum())
     assert t.operations[0].name == "A @ TEST.MPF:1"
     assert t.to_json()["operations"][1]["seconds"] == pytest.approx(5.1)
-    assert format_seconds(928.0) == "15 min 28 s"
+    assert format_seconds(928.04) == "15 min 28.0 s"
+    assert format_seconds(59.96) == "1 min 00.0 s"
+    assert format_seconds(5.26) == "5.3 s"
+    assert format_seconds(2e12) == "2e+12 s"
 
 
 def test_sinumerik_path_modes_in_the_canonical_stream(tmp_path):

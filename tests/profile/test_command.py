@@ -27,7 +27,8 @@ def test_profile_list(capsys):
     assert len(capsys.readouterr().out.splitlines()) == 23
 
 
-@pytest.mark.parametrize("argv", [["P3G", "51"], ["P9", "50"], ["P3G", "50", "--png", "x.jpg"]])
+@pytest.mark.parametrize("argv", [["P3G", "51"], ["P9", "50"], ["P3G", "50", "--png", "x.jpg"],
+                                  ["P3G", "50", "--png", ""]])
 def test_bad_input_is_a_diagnostic_and_exit_2(capsys, argv):
     assert main(["profile", *argv]) == 2
     err = capsys.readouterr().err

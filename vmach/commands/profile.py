@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
     if prof.kind == "P4C":  # designation d1 x d2 / e: d2 is the width across the flats
         data.update(d2=prof.d2_flats, d_m=prof.d)
         del data["d3"]
-    if args.png:
+    if args.png is not None:
         from vmach.report.render import profile_png
 
         profile_png(args.png, [(prof.curve(1440), "black")], title=prof.name)
@@ -60,6 +60,6 @@ def run(args: argparse.Namespace) -> int:
             if key in data:
                 unit = "mm²" if key == "area_mm2" else "mm"
                 print(f"  {label[key]:<20s} {data[key]:10.4f} {unit}")
-        if args.png:
+        if args.png is not None:
             print(f"  curve written to {args.png}")
     return 0

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from vmach.errors import InputError
+from vmach.motion.timing import format_seconds
 from vmach.output import atomic_writer, make_dir, writable_dir
 from vmach.tol import ACCURACY, tol
 from vmach.verify import VerifyOptions, verify
@@ -98,9 +99,7 @@ def summary(report, out: Path) -> str:
         f"{report.program}: {d['program']['moves']} moves, {s['errors']} error(s), {s['warnings']} warning(s)"
     )
     if d["cycle_time_s"] is not None:
-        t = d["cycle_time_s"]
-        lines.append(f"cycle time {int(t // 60)} min {t % 60:04.1f} s" if t < 1e9
-                     else f"cycle time {t:.3g} s")
+        lines.append(f"cycle time {format_seconds(d['cycle_time_s'])}")
     if d["simulation"]:
         m = d["simulation"]
         b = m["error_bounds_mm"]

@@ -131,9 +131,12 @@ class Timing:
 
 
 def format_seconds(seconds: float) -> str:
-    """``928.0`` → ``"15 min 28 s"``."""
-    m, s = divmod(round(seconds), 60)
-    return f"{m} min {s} s" if m else f"{s} s"
+    """A cycle time for people: ``928.04`` → ``"15 min 28.0 s"``, ``5.26`` → ``"5.3 s"``;
+    beyond 1e9 s (a program that never ends in practice) ``"1.2e+12 s"``."""
+    if not seconds < 1e9:
+        return f"{seconds:.3g} s"
+    m, s = divmod(round(seconds, 1), 60)
+    return f"{int(m)} min {s:04.1f} s" if m else f"{s:.1f} s"
 
 
 # ------------------------------------------------------------------------------------------------
