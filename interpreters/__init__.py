@@ -33,13 +33,21 @@ NAMES: dict[str, str] = {
 }
 
 
-def dialect_for(path: str | Path, name: str | None = None) -> ModuleType:
-    """The dialect module for ``path`` (by extension) or by explicit ``name``."""
+#: extensions several controls use: the machine's dialect decides when it declares one
+GENERIC = frozenset({".nc", ".tap"})
+
+
+def dialect_for(path: str | Path, name: str | None = None, machine: str | None = None) -> ModuleType:
+    """The dialect module for ``path``: the explicit ``name`` (``--dialect``); else the
+    extension when only one dialect uses it (``.mpf``, ``.ngc``); else the ``machine``'s
+    declared dialect (``control.dialect`` of its model); else the extension's usual one."""
     if name is not None:
         if name not in NAMES:
             raise InputError(f"unknown dialect {name!r}; known: {', '.join(sorted(NAMES))}")
         return importlib.import_module(NAMES[name])
     ext = Path(path).suffix.lower()
+    if machine in NAMES and (ext in GENERIC or ext not in DIALECTS):
+        return importlib.import_module(NAMES[machine])
     if ext not in DIALECTS:
         raise InputError(
             f"{path}: cannot tell the dialect from the extension {ext!r}; "

@@ -240,3 +240,18 @@ def test_an_endless_cycle_time_is_null_in_the_report_not_a_crash(tmp_path, capsy
     assert main(["verify", p, "--machine", "turnmill", "--no-images", "--out", str(out)]) == 0
     data = json.loads((out / "report.json").read_text(), parse_constant=lambda c: pytest.fail(c))
     assert data["cycle_time_s"] is None
+
+
+def test_a_program_whose_extension_does_not_say_is_read_in_the_machines_dialect(tmp_path, capsys):
+    # R parameters and a label jump are Sinumerik; the turn-mill model declares that dialect
+    prog = tmp_path / "part.nc"
+    prog.write_text("R1=2\nLL: G1 X=R1 F100\nR1=R1-1\nIF R1>0 GOTOB LL\nM30\n")
+    assert main(["check", str(prog), "--machine", "turnmill"]) == 0
+    # without a machine, .nc is RS274/NGC, which has no R parameters
+    assert main(["check", str(prog)]) == 1
+    capsys.readouterr()
+    # an extension only one dialect uses wins over the machine's; --dialect over both
+    ngc = tmp_path / "part.ngc"
+    ngc.write_text("#1=2\nG1 X#1 F100\nM2\n")
+    assert main(["check", str(ngc), "--machine", "turnmill"]) == 0
+    assert main(["check", str(prog), "--machine", "s5d", "--dialect", "sinumerik"]) == 0

@@ -83,6 +83,9 @@ class ControlSpec:
         Spindle numbers the machine has.
     master_spindle : int
         Spindle that plain ``S``/``M3`` address at program start.
+    dialect : str or None
+        The machine's control language (``"sinumerik"``, ``"rs274ngc"``): it reads programs
+        whose extension does not say (``.nc``); None: not declared.
     """
 
     axes: tuple[AxisSpec, ...] = ()
@@ -94,6 +97,7 @@ class ControlSpec:
     zero_offsets: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
     spindles: tuple[int, ...] = (1,)
     master_spindle: int = 1
+    dialect: str | None = None
 
     def axis(self, name: str) -> AxisSpec | None:
         for a in self.axes:

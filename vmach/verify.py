@@ -45,6 +45,7 @@ class VerifyOptions:
     export: tuple[str, ...] = ()
     clearance: float = 1.0  # near-miss distance for rapids, mm
     accuracy: str | None = None  # stock simulation preset (vmach.tol.ACCURACY); None: setup, else standard
+    dialect: str | None = None  # None: by the extension, or the machine's (interpreters.dialect_for)
 
 
 @dataclass
@@ -209,7 +210,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
                         if report.profile_spec else None)
 
     with clock("interpret"):
-        dialect = interpreters.dialect_for(path)
+        dialect = interpreters.dialect_for(path, options.dialect, control.dialect)
         result = dialect.run(str(program), control, RunOptions(max_blocks=options.max_blocks))
         report.result = result
         report.findings.extend(result.findings)

@@ -196,6 +196,7 @@ def test_a_closed_form_that_does_not_fit_the_chain_is_refused(tmp_path):
 # 24 GB collision mesh): (model, text replaced, replacement, kind, line of the problem).
 FUZZED = [
     ("turnmill", 'cycles = ["C_AXIS_ON", "C_AXIS_OFF"]', "cycles = 5", "bad_value", 16),
+    ("turnmill", 'dialect = "sinumerik"', 'dialect = "fanuc"', "bad_value", 12),
     ("turnmill", 'transverse = "X"', 'transverse = ["X"]', "bad_value", 14),
     ("turnmill", "spindles = [1, 2]", "spindles = [1, 128]", "bad_value", 19),
     ("turnmill", "home = 325.0", "home = inf", "bad_value", 28),

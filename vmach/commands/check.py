@@ -25,8 +25,8 @@ def run(args: argparse.Namespace) -> int:
     path = Path(args.program)
     if not path.is_file():
         raise InputError(f"{args.program}: no such file", kind="unreadable")
-    dialect = interpreters.dialect_for(path, args.dialect)
     control, _ = control_for(path, args.machine)
+    dialect = interpreters.dialect_for(path, args.dialect, control.dialect)
     findings = dialect.check(args.program, control)
     errors = sum(f.severity == "error" for f in findings)
     warnings = sum(f.severity == "warning" for f in findings)

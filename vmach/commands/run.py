@@ -42,8 +42,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"{args.program}: no such file", kind="unreadable")
     if args.max_blocks < 1:
         raise InputError("--max-blocks must be at least 1", kind="usage")
-    dialect = interpreters.dialect_for(path, args.dialect)
     control, model_path = control_for(path, args.machine)
+    dialect = interpreters.dialect_for(path, args.dialect, control.dialect)
     options = RunOptions(max_blocks=args.max_blocks)
     if args.format in ("text", "json"):
         result = dialect.run(args.program, control, options)

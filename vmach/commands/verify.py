@@ -19,6 +19,7 @@ HELP = "verify a program on a machine: limits, collisions, stock, profile, cycle
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("program", help="NC program (.mpf/.spf Sinumerik, .ngc RS274/NGC)")
     p.add_argument("--machine", help="machine model (path or name in models/)")
+    p.add_argument("--dialect", help="override the dialect chosen by the extension or the machine")
     p.add_argument("--tools", help="tool library (TOML)")
     p.add_argument("--stock", help="stock: cylinder:d=60,l=100 | box:x=..,y=..,z=.. | mesh:part.stl")
     p.add_argument("--profile", help="profile to check, e.g. P3G:50 (DIN 32711) or P4C:35x30")
@@ -73,6 +74,7 @@ def run(args: argparse.Namespace) -> int:
         clearance=args.clearance,
         profile_stations=args.stations,
         accuracy=args.accuracy,
+        dialect=args.dialect,
     )
     report = verify(args.program, options)
     data = report.to_json()

@@ -32,6 +32,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
+import interpreters
 from vmach.canon import AxisSpec, ControlSpec
 from vmach.errors import ModelError
 from vmach.files import read_bytes
@@ -217,6 +218,11 @@ def collect_control(
                 else:
                     row[str(a)] = fv
             offsets[str(k).upper()] = row
+    dialect = ctl.get("dialect")
+    if dialect is not None and dialect not in interpreters.NAMES:
+        bad(("control", "dialect"), f"control.dialect must be one of {', '.join(sorted(interpreters.NAMES))}",
+            "bad_value")
+        dialect = None
     names = {}
     for key in ("cycles", "gcodes"):
         raw = ctl.get(key, ())
@@ -234,6 +240,7 @@ def collect_control(
         zero_offsets=offsets,
         spindles=spindles,
         master_spindle=master,
+        dialect=dialect,
     )
     return spec, problems
 
