@@ -208,6 +208,15 @@ FUZZED = [
     ("h5d", "root = -1", 'root = "x"', "bad_value", 93),
     ("s5d", 'geometry = ["X", "Y", "Z"]', 'geometry = ["X", "Y", "Q"]', "bad_value", 21),
     ("s5d", 'geometry = ["X", "Y", "Z"]', 'geometry = ["X", "X", "Z"]', "bad_value", 21),
+    ("h5d", 'virtual = ["Y", "Z"]', 'virtual = ["Y", "Y"]', "bad_value", 83),
+    # misspelt keys are errors at their line, not silently ignored (a rate limit would be lost)
+    ("turnmill", "max_rate = 30000.0          # assumption: 30 m/min rapid\n",
+     "max_rat = 30000.0\n", "unknown_key", 104),
+    ("turnmill", 'dialect = "sinumerik"', 'dialekt = "sinumerik"', "unknown_key", 12),
+    ("s5d", 'ik = "table_table"', 'ik = "table_table"\nik_method = "numeric"', "unknown_key", 52),
+    ("h5d", "root = -1", "root = -1\nrooot = 1", "unknown_key", 94),
+    ("hybrid5", 'direction = [0.0, 0.0, 1.0]', 'directon = [0.0, 0.0, 1.0]', "unknown_key", 79),
+    ("turnmill", "[control]", "colour = 1\n[control]", "unknown_key", 11),
 ]
 
 

@@ -33,6 +33,7 @@ A value that refers to a parameter is a string: ``"name"`` or ``"-name"``; nothi
 
 from __future__ import annotations
 
+import difflib
 import math
 from collections.abc import Mapping
 from pathlib import Path
@@ -58,6 +59,65 @@ from vmach.tol import tol
 
 IK_METHODS = ("numeric", "table_table", "head_bc")
 UNIT_TOL = 1e-9
+
+_MOUNT = frozenset({"origin", "rpy"})
+_DRIVE = frozenset({"limits", "max_rate", "max_accel"})
+_JOINT = frozenset({"name", "variable", "type", "parent", "child", "axis"}) | _MOUNT | _DRIVE
+#: The keys each table of a model may hold (tables whose keys are names — parameters,
+#: positions, zero_offsets, timing.cycles — are not listed; timing checks its own). A key
+#: outside them is an ``unknown_key`` error: a misspelt ``max_rat`` must not silently drop a
+#: rate limit.
+KEYS: dict[str, frozenset[str]] = {
+    "": frozenset({"name", "description", "formula", "control", "axes", "parameters", "kinematics",
+                   "joints", "dimensions", "work", "tool", "geometry", "parallel", "positions",
+                   "timing", "zero_offsets"}),
+    "control": frozenset({"dialect", "geometry", "transverse", "spindles", "master_spindle",
+                          "tool_spindle", "cycles", "gcodes"}),
+    "axes": frozenset({"name", "type", "modulo", "g90_mode", "home"}),
+    "kinematics": frozenset({"ik"}),
+    "joints": _JOINT,
+    "dimensions": frozenset({"axis", "variable"}) | _MOUNT | _DRIVE,
+    "dimensions.W": _MOUNT,
+    "dimensions.T": _MOUNT | {"direction", "length"},
+    "work": frozenset({"link"}) | _MOUNT,
+    "tool": frozenset({"link", "direction", "length"}) | _MOUNT,
+    "geometry": frozenset({"name", "link", "shape", "size", "radius", "length", "path"}) | _MOUNT,
+    "parallel": frozenset({"name", "virtual", "origin", "assembly", "legs"}),
+    "parallel.legs": frozenset({"drive", "guide_point", "guide_dir", "length", "attach", "root"}) | _DRIVE,
+}
+
+
+def _unknown_keys(r: Reader) -> None:
+    """An ``unknown_key`` error for every key no table of the schema (:data:`KEYS`) knows,
+    with the closest known key as a hint."""
+
+    def check(table: Any, schema: str, key: tuple) -> None:
+        if not isinstance(table, Mapping):
+            return                  # the table's own reader reports the wrong type
+        known = KEYS[schema]
+        for k in table:
+            if k not in known:
+                close = difflib.get_close_matches(str(k), sorted(known), n=1, cutoff=0.6)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+                where = f"{schema}." if schema else ""
+                r.err("unknown_key", f"{where}{k} is not a key of the model{hint}", key + (k,))
+
+    def each(value: Any, schema: str, key: tuple) -> None:
+        for i, t in enumerate(value if isinstance(value, list) else []):
+            check(t, schema, key + (i,))
+
+    raw = r.raw
+    check(raw, "", ())
+    for name in ("control", "kinematics", "work", "tool"):
+        check(raw.get(name, {}), name, (name,))
+    for name in ("axes", "joints", "geometry", "parallel"):
+        each(raw.get(name, []), name, (name,))
+    for i, par in enumerate(raw.get("parallel", []) if isinstance(raw.get("parallel"), list) else []):
+        if isinstance(par, Mapping):
+            each(par.get("legs", []), "parallel.legs", ("parallel", i, "legs"))
+    dims = raw.get("dimensions", {})
+    for k, t in (dims.items() if isinstance(dims, Mapping) else ()):
+        check(t, f"dimensions.{k}" if k in ("W", "T") else "dimensions", ("dimensions", k))
 #: smallest max_rate (mm/min or degrees/min): a denormal rate made times infinite
 MIN_RATE = 1e-6
 
@@ -230,6 +290,7 @@ def build_spec(
     r = Reader(path, lines, raw, overrides)
     control, cproblems = collect_control(raw, path, lines.find)
     r.problems.extend(cproblems)
+    _unknown_keys(r)
     axes = tuple(a.name for a in control.axes)
     formula = raw.get("formula")
     if formula is not None:
@@ -498,8 +559,9 @@ def _parallel(r: Reader, i: int, t: Mapping[str, Any], axes: tuple[str, ...]) ->
         not isinstance(virtual, list)
         or len(virtual) not in (2, 3)
         or not all(isinstance(v, str) for v in virtual)
+        or len(set(virtual)) != len(virtual)
     ):
-        r.err("bad_value", f"parallel {name}: virtual must name 2 or 3 axes", key + ("virtual",))
+        r.err("bad_value", f"parallel {name}: virtual must name 2 or 3 different axes", key + ("virtual",))
         return None
     for v in virtual:
         if v not in axes:
