@@ -4,6 +4,11 @@ reference is absent — on models/turnmill.toml with the fixture tools, a Ø60 b
 profile check between z = -35 and -5.
 
     python benchmarks/verify.py [--program FILE] [--no-images] [--accuracy fine]
+                                [--mesh-blank TRIANGLES]
+
+``--mesh-blank N`` reads the same Ø60 × 100 blank from an STL of about N triangles (a finely
+tessellated cylinder, as a scanned or CAD-exported blank would be) instead of the
+``cylinder:`` spec.
 
 Each run happens in a child process so that its peak resident memory (ru_maxrss) is its own.
 """
@@ -44,11 +49,23 @@ def _program(directory: Path, given: str | None) -> Path:
     return ROOT / "fixtures" / "polygon_shaft" / "POLY50.MPF"
 
 
-def _child(program: str, out: str, images: bool, accuracy: str | None, queue) -> None:
+def _mesh_blank(directory: Path, triangles: int) -> str:
+    """A ``mesh:`` stock spec: the Ø60 × 100 blank (end face at z = 0) as an STL of about
+    ``triangles`` triangles."""
+    import trimesh
+
+    blank = trimesh.creation.cylinder(radius=30.0, height=100.0, sections=max(8, triangles // 4))
+    blank.apply_translation([0.0, 0.0, -50.0])
+    path = directory / "blank.stl"
+    blank.export(path)
+    return f"mesh:{path}"
+
+
+def _child(program: str, out: str, images: bool, accuracy: str | None, stock: str | None, queue) -> None:
     from vmach.verify import VerifyOptions, verify
 
     t = time.perf_counter()
-    report = verify(program, VerifyOptions(out=Path(out), images=images, accuracy=accuracy))
+    report = verify(program, VerifyOptions(out=Path(out), images=images, accuracy=accuracy, stock=stock))
     wall = time.perf_counter() - t
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     queue.put(
@@ -69,18 +86,22 @@ def main() -> None:
     ap.add_argument("--program")
     ap.add_argument("--no-images", action="store_true")
     ap.add_argument("--accuracy", choices=tuple(ACCURACY), help="as vmach verify --accuracy")
+    ap.add_argument("--mesh-blank", type=int, metavar="TRIANGLES",
+                    help="the blank as an STL of about this many triangles")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         program = _program(Path(tmp), args.program)
+        stock = _mesh_blank(Path(tmp), args.mesh_blank) if args.mesh_blank else None
         q: mp.Queue = mp.get_context("spawn").Queue()
         p = mp.get_context("spawn").Process(
-            target=_child, args=(str(program), tmp + "/out", not args.no_images, args.accuracy, q)
+            target=_child, args=(str(program), tmp + "/out", not args.no_images, args.accuracy, stock, q)
         )
         p.start()
         wall, peak, timings, moves, errors, profile, cycle = q.get()
         p.join()
     print(
-        f"vmach verify {program.name} ({args.accuracy or 'standard'} accuracy): {moves} moves, "
+        f"vmach verify {program.name} ({args.accuracy or 'standard'} accuracy"
+        f"{f', blank of {args.mesh_blank} triangles' if args.mesh_blank else ''}): {moves} moves, "
         f"{errors} error(s), wall {wall:.1f} s, "
         f"peak memory {peak:.0f} MB"
     )

@@ -223,6 +223,30 @@ def test_slab_boxes_take_the_extent_of_every_bin_their_range_meets():
         assert np.array_equal(box[k, 0, :2], want_lo) and np.array_equal(box[k, 1, :2], want_hi)
 
 
+def test_slabs_are_each_bins_extent_over_the_triangles_that_meet_it():
+    """Slabs.from_mesh against the definition, bin by bin: random triangles — short ones and
+    ones that span tens of bins (a CAD blank's cylinder side spans all of them) — and the X/Y
+    extent and largest radius of those that meet each bin."""
+    rng = np.random.default_rng(11)
+    for _ in range(30):
+        n = int(rng.integers(1, 300))
+        v = rng.normal(size=(3 * n, 3)) * [10.0, 10.0, rng.uniform(0.1, 40.0)]
+        f = np.arange(3 * n).reshape(n, 3)
+        slabs = Slabs.from_mesh(v, f, step=float(rng.choice([0.5, 1.0, 3.0])))
+        tri = v[f]
+        b0 = np.floor((tri[:, :, 2].min(axis=1) - slabs.z0) / slabs.step).astype(int)
+        b1 = np.floor((tri[:, :, 2].max(axis=1) - slabs.z0) / slabs.step).astype(int)
+        for b in range(len(slabs.lo)):
+            meet = (b0 <= b) & (b <= b1)
+            if not meet.any():
+                assert np.all(slabs.lo[b] == np.inf) and slabs.rmax[b] == -np.inf
+                continue
+            t = tri[meet]
+            assert np.array_equal(slabs.lo[b], t[:, :, :2].min(axis=(0, 1)))
+            assert np.array_equal(slabs.hi[b], t[:, :, :2].max(axis=(0, 1)))
+            assert slabs.rmax[b] == np.hypot(t[:, :, 0], t[:, :, 1]).max()
+
+
 def test_copies_clipped_each_to_its_own_box_are_clipped_as_one_by_one(d25_shape):
     """clip with a box per copy (lo, hi (m, 3)) gives each copy what clipping it alone to its
     box gives; an empty box (lo > hi) culls its copy."""

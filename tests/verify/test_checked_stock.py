@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import trimesh
 from catalog import POLYGON_TOOLS
 
 from interpreters import sinumerik
 from vmach.machine import load_model
 from vmach.motion.table import build
 from vmach.stock import Stock, engine
+from vmach.stock import hull as hull_module
 from vmach.stock import simulate as simulate_module
 from vmach.stock.events import Part, cylinders_beyond, part_solids
 from vmach.stock.simulate import simulate
@@ -58,12 +60,12 @@ N270 M30
 """
 
 
-def _run(tmp_path, text: str, checks: bool, monkeypatch=None):
+def _run(tmp_path, text: str, checks: bool, monkeypatch=None, spec: str = "cylinder:d=30,l=60"):
     path = tmp_path / "TURN.MPF"
     path.write_text(text)
     model = load_model("turnmill")
     table = build(sinumerik.run(str(path), model.control).commands, model.control)
-    stock = Stock.from_spec("cylinder:d=30,l=60")
+    stock = Stock.from_spec(spec)
     moved: list[int] = []
     if monkeypatch is not None:
         one = simulate_module._cut_one
@@ -111,6 +113,36 @@ def test_a_shank_in_uncut_material_is_found_until_the_cutter_clears_it(tmp_path)
     assert np.all(np.diff(vols) < 0)                     # the rim is cut away ahead of it
     assert len(turn) < 40                                # ... and is gone well before the turn ends
 
+
+
+def test_a_finely_meshed_blank_gives_the_findings_of_its_exact_hull(tmp_path, monkeypatch):
+    """The same shank case on a blank read from a mesh: with the blank's hull reduced to 64
+    planes, and with every probe met with the blank in cells of 200 triangles
+    (vmach/stock/hull.py, ``Stock.blank_meets``), the findings are those of the exact hull and
+    the whole blank."""
+    mesh = trimesh.creation.cylinder(radius=15.0, height=60.0, sections=512)
+    mesh.apply_translation([0.0, 0.0, -30.0])
+    mesh.export(tmp_path / "shaft.stl")
+    text = HEAD + PLUNGE + SECOND_TURN
+    spec = f"mesh:{tmp_path / 'shaft.stl'}"
+
+    def found(sim):
+        return [(f.kind, f.line, f.data.get("part"), round(f.data.get("volume_mm3", 0.0), 6))
+                for f in sim.findings]
+
+    exact, stock, _, _ = _run(tmp_path, text, checks=True, spec=spec)
+    assert stock._hull.exact and stock._blank_cells is None
+    monkeypatch.setattr(hull_module, "MAX_PLANES", 64)
+    monkeypatch.setattr(Stock, "BLANK_CELL", 200)
+    reduced, stock, _, _ = _run(tmp_path, text, checks=True, spec=spec)
+    assert not stock._hull.exact
+    assert any(f.kind == "holder_collision" for f in reduced.findings)
+    assert found(reduced) == found(exact)
+    # every probe through the cells (no vertex taken for inside at once)
+    monkeypatch.setattr(Stock, "blank_holds", lambda self, p: np.zeros(len(np.reshape(p, (-1, 3))), bool))
+    celled, stock, _, _ = _run(tmp_path, text, checks=True, spec=spec)
+    assert len(stock._blank_cells) > 1
+    assert found(celled) == found(exact)
 
 
 def test_a_shank_sweeping_through_the_shaft_between_two_far_poses_is_found(tmp_path):

@@ -390,7 +390,7 @@ def _meets(stock: Stock, probe: list) -> bool:
     for q in probe:
         if stock.blank_holds(engine.to_mesh(q, double=True)[0]).any():
             return True
-        if overlap_volume(stock.initial, [q], centre=False)[0] > 0.0:
+        if stock.blank_meets(q):
             return True
     return False
 

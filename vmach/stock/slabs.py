@@ -33,6 +33,24 @@ GRID = 0.5   # box planes rounded outward to multiples of this, mm
 JITTER = 0.1  # ... and then moved out by up to this much more, differently for each cutter, mm
 
 
+def _range_min(nb: int, b0: np.ndarray, b1: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """(nb, c) float: for every bin, the least of ``values`` (m, c) over the items whose bin
+    range [b0, b1] (m,) holds it (+inf for none). Each range is two overlapping power-of-two
+    blocks, marked at its level and pushed down level by level — O(m + nb log nb), whatever
+    the ranges' lengths (a CAD blank's cylinder side is long triangles that span every bin)."""
+    values = np.asarray(values, dtype=float)
+    levels = max(1, int(nb).bit_length())
+    tab = np.full((levels, nb, values.shape[1]), np.inf)
+    level = np.floor(np.log2(b1 - b0 + 1)).astype(int)
+    np.minimum.at(tab, (level, b0), values)
+    np.minimum.at(tab, (level, b1 - (1 << level) + 1), values)
+    for j in range(levels - 1, 0, -1):
+        h = 1 << (j - 1)
+        np.minimum(tab[j - 1], tab[j], out=tab[j - 1])
+        np.minimum(tab[j - 1, h:], tab[j, : nb - h], out=tab[j - 1, h:])
+    return tab[0]
+
+
 @dataclass(frozen=True)
 class Slabs:
     """X/Y extent of a surface per Z bin.
@@ -58,16 +76,11 @@ class Slabs:
         b0 = np.floor((zmin - z0) / step).astype(int)
         b1 = np.floor((zmax - z0) / step).astype(int)
         nb = int(b1.max()) + 1 if len(tri) else 1
-        span = b1 - b0 + 1
-        which = np.repeat(np.arange(len(tri)), span)
-        bins = np.repeat(b0, span) + (np.arange(span.sum()) - np.repeat(np.cumsum(span) - span, span))
         xy_lo, xy_hi = tri[:, :, :2].min(axis=1), tri[:, :, :2].max(axis=1)
-        lo = np.full((nb, 2), np.inf)
-        hi = np.full((nb, 2), -np.inf)
-        np.minimum.at(lo, bins, xy_lo[which])
-        np.maximum.at(hi, bins, xy_hi[which])
-        rmax = np.full(nb, -np.inf)
-        np.maximum.at(rmax, bins, np.hypot(tri[:, :, 0], tri[:, :, 1]).max(axis=1)[which])
+        r = np.hypot(tri[:, :, 0], tri[:, :, 1]).max(axis=1)
+        lo = _range_min(nb, b0, b1, xy_lo)
+        hi = -_range_min(nb, b0, b1, -xy_hi)
+        rmax = -_range_min(nb, b0, b1, -r[:, None])[:, 0]
         return cls(z0, step, lo, hi, rmax, float(zmax.max()) if len(tri) else 0.0)
 
     def holds(self, points: np.ndarray) -> np.ndarray:

@@ -28,6 +28,7 @@ from vmach.output import atomic_writer, writable_file
 from vmach.stock import cusps, engine
 from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, clip, shape, sweep_shape
+from vmach.stock.events import overlap_volume
 from vmach.stock.fan import (
     NO_FANS,
     back_clear,
@@ -40,6 +41,7 @@ from vmach.stock.fan import (
     side_lines,
     side_samples,
 )
+from vmach.stock.hull import blank_hull
 from vmach.stock.slabs import Slabs
 from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
@@ -154,6 +156,13 @@ class Stock:
     FRESH_AFTER = 4    # batches' worth of cutters after which a new path retakes them
     SLABS = True       # trim to the stock's extent per Z range (False: one box, for comparison)
     GROUP = 16   # consecutive cutters kept together in a spread batch
+    BLANK_CELL = 20_000  # triangles of a finely meshed blank per cell (:meth:`blank_meets`)
+    #: relative volume difference up to which a blank counts as convex: a convex blank read
+    #: from an STL carries float32 coordinates (a Ø60 cylinder of 80,000 triangles: 2e-7).
+    #: Convexity only lets the verify checks settle a question at once (a part with a vertex
+    #: inside the blank meets it; :meth:`blank_holds`); every finding is measured on the
+    #: stock itself.
+    CONVEX_TOL = 1e-6
 
     def __init__(self, solid: engine.Solid, *, batch: int = 64,
                  cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
@@ -170,7 +179,10 @@ class Stock:
         self.fan_overcut = fan_overcut
         self.cusp = cusp
         self._blank_planes: np.ndarray | None = None
-        self._blank_points: np.ndarray | None = None   # (v, 3) the blank's hull vertices
+        self._blank_points: np.ndarray | None = None   # (v, 3) corners of a region holding the blank
+        self._hull = None
+        self._blank_cells: dict | None = None   # (i, j, k) -> the blank in that grid cell
+        self._blank_edges: list = []
         self._blank_convex = False
         self._slabs: Slabs | None = None
         self._fan_guess = 8         # poses of the last fan that fitted
@@ -373,32 +385,74 @@ class Stock:
         return np.all((points >= b[0]) & (points <= b[1]), axis=-1)
 
     def _blank_hull(self) -> None:
-        """The blank's convex hull: its face planes and vertices, and whether the blank is
-        convex (its volume is its hull's, to 1e-9; a blank too small for a hull of four planes
-        is not taken for convex)."""
+        """The blank's convex hull (:mod:`vmach.stock.hull`: reduced to a few thousand planes
+        for a finely meshed blank) and whether the blank is convex (its volume is its hull's,
+        to ``CONVEX_TOL``; a blank too small for a hull of four planes is not taken for
+        convex)."""
         if self._blank_planes is None:
             v, _ = engine.to_mesh(self.initial, double=True)
             hull = engine.hull(v)
             hv, hf = engine.to_mesh(hull, double=True)
-            self._blank_planes = shape(hv, hf).planes
-            self._blank_points = hv
+            self._hull = blank_hull(hv, hf)
+            self._blank_planes = self._hull.outer
+            self._blank_points = self._hull.corners
             vol = engine.volume(hull)
-            self._blank_convex = (len(self._blank_planes) >= 4
-                                  and abs(vol - engine.volume(self.initial)) <= 1e-9 * max(vol, 1.0))
+            self._blank_convex = (min(len(self._hull.outer), len(self._hull.inner)) >= 4
+                                  and abs(vol - engine.volume(self.initial))
+                                  <= self.CONVEX_TOL * max(vol, 1.0))
 
     def blank_holds(self, points: np.ndarray) -> np.ndarray:
         """(k,) bool: points (k, 3) that lie inside the blank, 1e-6 mm or more from its
         boundary — answered for a convex blank (a cylinder, a box); all False for another, whose
-        callers must meet solids instead."""
+        callers must meet solids instead. (For a finely meshed blank, inside a region within
+        it: a point near the boundary may be answered False, never wrongly True.)"""
         points = np.asarray(points, dtype=float).reshape(-1, 3)
-        planes = self.blank_planes()
-        if planes is None:
+        if self.blank_planes() is None:
             return np.zeros(len(points), bool)
-        return np.all(points @ planes[:, :3].T - planes[:, 3] < -1e-6, axis=1)
+        planes = self._hull.inner
+        k = max(1, (1 << 22) // len(planes))      # points per block: arrays of at most 4M
+        return np.concatenate([np.all(points[i : i + k] @ planes[:, :3].T - planes[:, 3] < -1e-6, axis=1)
+                               for i in range(0, len(points), k)] or [np.zeros(0, bool)])
+
+    def blank_meets(self, solid: engine.Solid) -> bool:
+        """Does the convex ``solid`` overlap the blank (by more than round-off)? A finely meshed
+        blank is met piece by piece: its parts in the cells of a grid (each about
+        ``BLANK_CELL`` triangles, made the first time a solid's box reaches the cell) — the
+        overlap is the sum of the pieces' — skipping a piece whose box lies beyond one of the
+        solid's face planes; a piece is far cheaper to meet than the whole blank."""
+        if engine.num_triangles(self.initial) <= 2 * self.BLANK_CELL:
+            return overlap_volume(self.initial, [solid], centre=False)[0] > 0.0
+        if self._blank_cells is None:
+            k = int(np.ceil((engine.num_triangles(self.initial) / self.BLANK_CELL) ** (1 / 3)))
+            b = np.asarray(self.initial_bounds)
+            self._blank_edges = [np.linspace(b[0, i] - 1e-3, b[1, i] + 1e-3, k + 1) for i in range(3)]
+            self._blank_cells = {}
+        lo, hi = engine.bounds(solid)
+        e = self._blank_edges
+        # cells j with e[j] <= hi and lo < e[j + 1], per axis
+        span = [range(*np.clip(np.searchsorted(e[a], [lo[a], hi[a]], side="right") + [-1, 0],
+                               0, len(e[a]) - 1)) for a in range(3)]
+        planes = shape(*engine.to_mesh(solid, double=True)).planes
+        for cell in ((i, j, k) for i in span[0] for j in span[1] for k in span[2]):
+            if cell not in self._blank_cells:
+                box = engine.box([e[a][c] for a, c in enumerate(cell)],
+                                 [e[a][c + 1] for a, c in enumerate(cell)])
+                piece = engine.intersect(self.initial, box)
+                self._blank_cells[cell] = (piece, None if engine.is_empty(piece) else engine.bounds(piece))
+            piece, pb = self._blank_cells[cell]
+            if pb is None:
+                continue
+            corners = np.array(np.meshgrid(*pb.T)).reshape(3, -1).T           # (8, 3)
+            if np.any((corners @ planes[:, :3].T - planes[:, 3]).min(axis=0) > 0.0):
+                continue            # the piece's box lies beyond a face plane of the solid
+            if overlap_volume(piece, [solid], centre=False)[0] > 0.0:
+                return True
+        return False
 
     def blank_planes(self) -> np.ndarray | None:
-        """(f, 4) float: the face planes (unit outward normal, offset; mm) of a convex blank, or
-        None when the blank is not convex."""
+        """(f, 4) float: planes (unit outward normal, offset; mm) of a convex region that holds a
+        convex blank — its hull's face planes, or a few hundred of its supporting planes for a
+        finely meshed one (:mod:`vmach.stock.hull`) — or None when the blank is not convex."""
         self._blank_hull()
         return self._blank_planes if self._blank_convex else None
 

@@ -1,0 +1,130 @@
+"""The blank's convex hull for the screening tests, kept to a few hundred planes.
+
+The stock stage asks the blank's hull four kinds of question, each only to save work, and each
+with one safe direction:
+
+- *does a cylinder lie wholly beyond the blank?* (the verify checks drop such rows) and *where
+  does a ray leave the blank?* (the fan's bridge samples): safe with any region that holds the
+  blank — the **outer** planes;
+- *how far does the blank reach along a direction?* (a fan's back faces must clear it): safe
+  with the corners of such a region — the **corners**;
+- *is a point inside the blank?* (a part that reaches into it meets it): safe with a region
+  inside the blank — the **inner** planes.
+
+A cylinder blank's hull has a few hundred facets (up to ``4 * MAX_PLANES`` triangles), used as
+they are (outer = inner = the hull's planes, corners = its vertices: exact). A blank read from a
+mesh may have hundreds of thousands (a finely tessellated casting, a CAD cylinder of thin side
+strips): every test is points × planes, and a 1.3-million-triangle sphere made the checked run
+take minutes in those products alone. Such a hull is reduced:
+
+- outer: the plane of its largest facet in each cell of a grid over the sphere of its normals
+  (``BANDS`` × ``SECTORS``; a fine cylinder keeps a side plane every 1.4°) and its bounding
+  box's planes — each a supporting plane, so the region they bound holds the hull;
+- corners: that region's vertices (:class:`scipy.spatial.HalfspaceIntersection`);
+- inner: the hull of about ``INNER_POINTS`` of its vertices, one per cell of a grid, and of its
+  extreme points in ``MAX_PLANES / 2`` directions spread over the sphere — a subset of its
+  vertices, so inside (its planes serve the few points of one solid at a time, so it may have
+  thousands).
+
+The reduced answers are looser, never wrong.
+
+Planes are (f, 4) float: unit outward normal n and offset d, the region ``n·x <= d`` (mm).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vmach.stock import engine
+from vmach.stock.clip import shape
+
+MAX_PLANES = 512
+#: the outer planes of a reduced hull: one facet per cell of BANDS x SECTORS on the sphere of
+#: its normals (at most 2,048 planes; a cylinder's side every 1.4 degrees)
+BANDS, SECTORS = 8, 256
+#: hull vertices kept for the inner region (its planes serve few points at a time)
+INNER_POINTS = 8192
+
+
+@dataclass(frozen=True)
+class BlankHull:
+    """outer, inner : (f, 4) planes (see the module docstring); corners : (v, 3) float, mm;
+    exact : True when outer = inner = the hull itself."""
+
+    outer: np.ndarray
+    inner: np.ndarray
+    corners: np.ndarray
+    exact: bool
+
+
+def directions(n: int) -> np.ndarray:
+    """(n, 3) unit vectors spread evenly over the sphere (a Fibonacci lattice)."""
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    phi = np.pi * (1.0 + 5.0 ** 0.5) * i
+    r = np.sqrt(1.0 - z * z)
+    return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
+
+
+def _extreme(points: np.ndarray, dirs: np.ndarray, block: int = 1 << 15) -> np.ndarray:
+    """(d,) int: the index of the point (p, 3) farthest along each direction (d, 3), taken in
+    blocks of points (a 1.3-million-vertex hull times 250 directions would be a 1.3 GB array)."""
+    best = np.full(len(dirs), -np.inf)
+    where = np.zeros(len(dirs), dtype=np.int64)
+    for i in range(0, len(points), block):
+        s = dirs @ points[i : i + block].T                         # (d, b)
+        k = s.argmax(axis=1)
+        top = s[np.arange(len(dirs)), k]
+        better = top > best
+        best[better], where[better] = top[better], k[better] + i
+    return where
+
+
+def blank_hull(vertices: np.ndarray, faces: np.ndarray, most: int | None = None) -> BlankHull:
+    """The hull of a convex triangle mesh (its vertices (p, 3) float, faces (f, 3) int, outward),
+    reduced to about ``most`` (default ``MAX_PLANES``) outer planes when it has more triangles
+    than ``4 * most`` (see the module docstring)."""
+    most = MAX_PLANES if most is None else int(most)
+    v = np.asarray(vertices, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    if len(f) <= 4 * most:
+        planes = shape(v, f).planes
+        return BlankHull(planes, planes, v, True)
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    n = np.cross(b - a, c - a)
+    area = np.linalg.norm(n, axis=1)
+    good = area > 1e-12 * max(1.0, float(np.abs(v).max())) ** 2
+    unit = n[good] / area[good, None]
+    # one facet per cell of the normals' sphere (bands of equal area x sectors), the largest:
+    # a fine cylinder keeps one side facet per 360/SECTORS degrees and its caps
+    band = np.clip(((unit[:, 2] + 1.0) * 0.5 * BANDS).astype(np.int64), 0, BANDS - 1)
+    sector = np.clip(((np.arctan2(unit[:, 1], unit[:, 0]) + np.pi) / (2 * np.pi) * SECTORS).astype(np.int64),
+                     0, SECTORS - 1)
+    order = np.argsort(-area[good], kind="stable")
+    _, first = np.unique((band * SECTORS + sector)[order], return_index=True)
+    keep = order[first]
+    facets = np.column_stack([unit[keep], np.einsum("ij,ij->i", unit[keep], a[good][keep])])
+    u = directions(most // 2)
+    extreme = _extreme(v, u)                                     # (d,) the hull's points
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    eye = np.eye(3)
+    box = np.vstack([np.column_stack([eye, hi]), np.column_stack([-eye, -lo])])
+    outer = np.vstack([facets, box])
+    from scipy.spatial import HalfspaceIntersection, QhullError  # (only here: its import is slow)
+
+    inside = v.mean(axis=0)                   # the mean of a solid hull's vertices is inside it
+    try:
+        corners = HalfspaceIntersection(np.column_stack([outer[:, :3], -outer[:, 3]]), inside).intersections
+    except (QhullError, ValueError):          # degenerate: the bounding box's corners also hold it
+        corners = np.array(np.meshgrid(*zip(lo, hi, strict=True))).reshape(3, -1).T
+    # inside: the hull of one vertex per cell of a grid (about INNER_POINTS cells hold the
+    # surface) and of the extreme ones
+    area = 0.5 * float(area.sum())
+    cell = (area / INNER_POINTS) ** 0.5
+    keys = np.floor((v - lo) / cell).astype(np.int64)
+    _, first = np.unique(keys, axis=0, return_index=True)
+    pick = np.union1d(first, extreme)
+    hv, hf = engine.hull_mesh(v[pick])
+    return BlankHull(outer, shape(hv, hf).planes, corners, False)
