@@ -17,6 +17,17 @@ def write(directory: Path, text: str, name: str = "TEST.MPF", **files: str) -> P
     return p
 
 
+def linked_from_outside(tmp_path: Path, name: str, body: str) -> Path:
+    """A job directory in ``tmp_path`` whose ``name`` is a symbolic link to a file of ``body``
+    beside it, outside the job directory; returns the job directory."""
+    outside = tmp_path / name
+    outside.write_text(body, encoding="utf-8")
+    job = tmp_path / "job"
+    job.mkdir()
+    (job / name).symlink_to(outside)
+    return job
+
+
 def run(
     directory: Path,
     text: str,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 from catalog import TURNMILL
-from nc import check, error_of, kinds, run
+from nc import check, error_of, kinds, linked_from_outside, run
 
 from vmach.canon import DEFAULT_CONTROL
 from vmach.machine.control import load_control
@@ -136,11 +136,7 @@ def test_loop_exits_are_followed(tmp_path):
 
 
 def test_a_subprogram_linked_from_outside_is_named_as_such(tmp_path):
-    outside = tmp_path / "EVIL.SPF"
-    outside.write_text("M17\n")
-    job = tmp_path / "job"
-    job.mkdir()
-    (job / "EVIL.SPF").symlink_to(outside)
+    job = linked_from_outside(tmp_path, "EVIL.SPF", "M17\n")
     assert kinds(check(job, "G0 X1\nEVIL\nM30\n")) == [("subprogram_outside", 2)]
     (job / "EVIL.SPF").unlink()
     assert kinds(check(job, "G0 X1\nEVIL\nM30\n")) == [("unknown_cycle", 2)]

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from nc import error_of, moves, ok, run
+from nc import error_of, linked_from_outside, moves, ok, run
 
 from vmach.canon import RunOptions
 
@@ -214,11 +214,7 @@ def test_subprogram_lookup_never_leaves_the_directory(tmp_path):
 
 
 def test_a_subprogram_linked_from_outside_the_directory_is_refused_as_such(tmp_path):
-    outside = tmp_path / "EVIL.SPF"
-    outside.write_text("G1 X=666 F1\nM17\n")
-    inner = tmp_path / "job"
-    inner.mkdir()
-    (inner / "EVIL.SPF").symlink_to(outside)
+    inner = linked_from_outside(tmp_path, "EVIL.SPF", "G1 X=666 F1\nM17\n")
     r = run(inner, "G1 X1 F1\nEVIL\nM30\n")
     err = error_of(r)
     assert (err.kind, err.line) == ("subprogram_outside", 2)

@@ -1,4 +1,4 @@
-"""The blank's convex hull for the screening tests, kept to a few hundred planes.
+"""The blank's convex hull for the screening tests, kept to a few thousand planes.
 
 The stock stage asks the blank's hull four kinds of question, each only to save work, and each
 with one safe direction:
@@ -40,6 +40,8 @@ import numpy as np
 from vmach.stock import engine
 from vmach.stock.clip import shape
 
+#: a hull of up to 4 * MAX_PLANES triangles is used as it is; MAX_PLANES / 2 directions give
+#: the inner region's extreme points
 MAX_PLANES = 512
 #: the outer planes of a reduced hull: one facet per cell of BANDS x SECTORS on the sphere of
 #: its normals (at most 2,048 planes; a cylinder's side every 1.4 degrees)
@@ -83,9 +85,9 @@ def _extreme(points: np.ndarray, dirs: np.ndarray, block: int = 1 << 15) -> np.n
 
 
 def blank_hull(vertices: np.ndarray, faces: np.ndarray, most: int | None = None) -> BlankHull:
-    """The hull of a convex triangle mesh (its vertices (p, 3) float, faces (f, 3) int, outward),
-    reduced to about ``most`` (default ``MAX_PLANES``) outer planes when it has more triangles
-    than ``4 * most`` (see the module docstring)."""
+    """The hull of a convex triangle mesh (its vertices (p, 3) float, faces (f, 3) int, outward):
+    used as it is up to ``4 * most`` triangles (``most``: default ``MAX_PLANES``), else reduced
+    (see the module docstring; ``most / 2`` extreme directions for the inner region)."""
     most = MAX_PLANES if most is None else int(most)
     v = np.asarray(vertices, dtype=float)
     f = np.asarray(faces, dtype=np.int64)
