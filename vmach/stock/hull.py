@@ -61,6 +61,11 @@ class BlankHull:
     exact: bool
 
 
+def box_corners(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(8, 3) float: the corners of the box [lo, hi] ((3,) each, mm)."""
+    return np.array(np.meshgrid(*zip(lo, hi, strict=True))).reshape(3, -1).T
+
+
 def directions(n: int) -> np.ndarray:
     """(n, 3) unit vectors spread evenly over the sphere (a Fibonacci lattice)."""
     i = np.arange(n) + 0.5
@@ -120,7 +125,7 @@ def blank_hull(vertices: np.ndarray, faces: np.ndarray, most: int | None = None)
     try:
         corners = HalfspaceIntersection(np.column_stack([outer[:, :3], -outer[:, 3]]), inside).intersections
     except (QhullError, ValueError):          # degenerate: the bounding box's corners also hold it
-        corners = np.array(np.meshgrid(*zip(lo, hi, strict=True))).reshape(3, -1).T
+        corners = box_corners(lo, hi)
     # inside: the hull of one vertex per cell of a grid (about INNER_POINTS cells hold the
     # surface) and of the extreme ones
     area = 0.5 * float(area.sum())

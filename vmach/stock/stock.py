@@ -41,7 +41,7 @@ from vmach.stock.fan import (
     side_lines,
     side_samples,
 )
-from vmach.stock.hull import blank_hull
+from vmach.stock.hull import BlankHull, blank_hull, box_corners
 from vmach.stock.slabs import Slabs
 from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
@@ -178,9 +178,7 @@ class Stock:
         self.fans = fans and trim
         self.fan_overcut = fan_overcut
         self.cusp = cusp
-        self._blank_planes: np.ndarray | None = None
-        self._blank_points: np.ndarray | None = None   # (v, 3) corners of a region holding the blank
-        self._hull = None
+        self._hull: BlankHull | None = None    # the blank's hull for the screening (hull.py)
         self._blank_cells: dict | None = None   # (i, j, k) -> the blank in that grid cell
         self._blank_edges: list = []
         self._blank_convex = False
@@ -389,13 +387,11 @@ class Stock:
         for a finely meshed blank) and whether the blank is convex (its volume is its hull's,
         to ``CONVEX_TOL``; a blank too small for a hull of four planes is not taken for
         convex)."""
-        if self._blank_planes is None:
+        if self._hull is None:
             v, _ = engine.to_mesh(self.initial, double=True)
             hull = engine.hull(v)
             hv, hf = engine.to_mesh(hull, double=True)
             self._hull = blank_hull(hv, hf)
-            self._blank_planes = self._hull.outer
-            self._blank_points = self._hull.corners
             vol = engine.volume(hull)
             self._blank_convex = (min(len(self._hull.outer), len(self._hull.inner)) >= 4
                                   and abs(vol - engine.volume(self.initial))
@@ -442,7 +438,7 @@ class Stock:
             piece, pb = self._blank_cells[cell]
             if pb is None:
                 continue
-            corners = np.array(np.meshgrid(*pb.T)).reshape(3, -1).T           # (8, 3)
+            corners = box_corners(*pb)
             if np.any((corners @ planes[:, :3].T - planes[:, 3]).min(axis=0) > 0.0):
                 continue            # the piece's box lies beyond a face plane of the solid
             if overlap_volume(piece, [solid], centre=False)[0] > 0.0:
@@ -451,10 +447,10 @@ class Stock:
 
     def blank_planes(self) -> np.ndarray | None:
         """(f, 4) float: planes (unit outward normal, offset; mm) of a convex region that holds a
-        convex blank — its hull's face planes, or a few hundred of its supporting planes for a
-        finely meshed one (:mod:`vmach.stock.hull`) — or None when the blank is not convex."""
+        convex blank — its hull's face planes, or up to a few thousand of its supporting planes
+        for a finely meshed one (:mod:`vmach.stock.hull`) — or None when the blank is not convex."""
         self._blank_hull()
-        return self._blank_planes if self._blank_convex else None
+        return self._hull.outer if self._blank_convex else None
 
     def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray,
               slides: np.ndarray):
@@ -466,7 +462,7 @@ class Stock:
             return NO_FANS
         self._blank_hull()
         return plan_fans(tips, axes, rotary, pr, slides=slides,
-                         clear=back_clear(tips, axes, pr, self._blank_points), stock_box=self.bounds)
+                         clear=back_clear(tips, axes, pr, self._hull.corners), stock_box=self.bounds)
 
     def _boxes(self, zlo: np.ndarray, zhi: np.ndarray, fresh: bool = False) -> np.ndarray:
         """Trim boxes (k, 2, 3) for cutters spanning Z ranges [zlo, zhi] (k,): the stock's
@@ -518,7 +514,8 @@ class Stock:
         stock is the same. Two steps that still bridge too much are cut as placed poses."""
         reach = np.broadcast_to(box, (len(tips), 2, 3))
         pr = self._prism(ts)
-        lines = side_lines(fr, omega, pr, reach, self._blank_planes)
+        self._blank_hull()
+        lines = side_lines(fr, omega, pr, reach, self._hull.outer)
         n = len(tips)
         tol_ = self.fan_overcut
 
