@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 
@@ -255,3 +256,25 @@ def test_a_program_whose_extension_does_not_say_is_read_in_the_machines_dialect(
     ngc.write_text("#1=2\nG1 X#1 F100\nM2\n")
     assert main(["check", str(ngc), "--machine", "turnmill"]) == 0
     assert main(["check", str(prog), "--machine", "s5d", "--dialect", "sinumerik"]) == 0
+
+
+def test_an_export_may_go_into_the_out_directory_verify_makes(tmp_path, capsys):
+    """`--out o --export o/part.stl` failed (the directory o did not exist yet) although verify
+    makes o itself; an export's directory now follows --out's rule: one that exists or can be
+    made, made only when the file is written. A parent that is a file is still an error before
+    any work, and nothing is made."""
+    import trimesh
+
+    p = prog(tmp_path, 'T="GLOD D40"\nM30\n')
+    tools = str(ROOT / "fixtures/tools/polygon_shaft.toml")
+    base = ["verify", p, "--machine", "turnmill", "--tools", tools, "--stock", "cylinder:d=60,l=50",
+            "--no-images", "--out", str(tmp_path / "o")]
+    part = tmp_path / "o" / "deeper" / "part.ply"
+    assert main(base + ["--export", str(part)]) == 0
+    mesh = trimesh.load(part, force="mesh")
+    assert mesh.is_watertight and abs(mesh.volume - math.pi * 30**2 * 50) < 0.01 * math.pi * 30**2 * 50
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    assert main(base + ["--out", str(tmp_path / "o2"), "--export", str(afile / "part.stl")]) == 2
+    assert "error[unwritable]" in capsys.readouterr().err
+    assert afile.read_text() == "x" and not (tmp_path / "o2").exists()

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from vmach.errors import InputError
-from vmach.output import atomic_writer, writable_file
+from vmach.output import atomic_writer, make_dir, writable_dir
 from vmach.stock import cusps, engine
 from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, clip, shape, sweep_shape
@@ -122,13 +122,18 @@ def _outside_runs(poses: np.ndarray, runs: np.ndarray) -> np.ndarray:
 
 
 def export_target(path: str | Path) -> Path:
-    """``path`` as an export target — a known format (EXPORT_FORMATS) in a directory that
-    exists — checked before any work is done (InputError otherwise)."""
+    """``path`` as an export target — a known format (EXPORT_FORMATS), not a directory, in a
+    directory that exists or can be made, as ``--out`` (:func:`vmach.output.writable_dir`; it
+    is made when the file is written, so an export may go into the ``--out`` directory that
+    verify makes) — checked before any work is done, creating nothing (InputError otherwise)."""
     p = Path(path)
     if p.suffix.lower() not in EXPORT_FORMATS:
         raise InputError(f"{p}: export format must be one of {', '.join(EXPORT_FORMATS)}",
                          kind="export_format")
-    return writable_file(p)
+    if p.is_dir():
+        raise InputError(f"{p}: is a directory", kind="unwritable")
+    writable_dir(p.parent)
+    return p
 
 
 class Stock:
@@ -782,6 +787,7 @@ class Stock:
                              kind="export_format")
         v, f = self.mesh(which)
         data = trimesh.Trimesh(v, f, process=False).export(file_type=p.suffix.lower()[1:])
+        make_dir(p.parent)
         try:
             with atomic_writer(p, "wb") as fh:
                 fh.write(data if isinstance(data, bytes) else data.encode())
