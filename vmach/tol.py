@@ -44,6 +44,10 @@ class Tolerances:
     #: Most poses the collision checks sample along the program (~3 kB each: a turn of a
     #: million degrees sampled 2.8 million and took 7.6 GB).
     max_samples: int = 1_000_000
+    #: A convex blank read from a mesh is taken as its convex hull (fewer triangles: a CAD
+    #: cylinder's side strips, cut along its length, merge) when every triangle of the mesh lies
+    #: within this of a face plane of the hull, mm (:func:`vmach.stock.hull.as_hull`).
+    blank_hull: float = 1e-4
     #: Default block limit for interpreters (infinite-loop guard).
     max_blocks: int = 10_000_000
     #: Default subprogram call depth limit (Sinumerik allows 16 levels incl. main program).

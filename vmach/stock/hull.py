@@ -28,6 +28,10 @@ take minutes in those products alone. Such a hull is reduced:
 
 The reduced answers are looser, never wrong.
 
+A convex blank read from a mesh is also *cut* as its hull when that has fewer triangles and the
+mesh lies on it within ``tol.blank_hull`` (:func:`as_hull`, :func:`lies_on_hull`): a CAD
+cylinder's side strips, cut along its length, merge, and the stock's booleans pay per triangle.
+
 Planes are (f, 4) float: unit outward normal n and offset d, the region ``n·x <= d`` (mm).
 """
 
@@ -135,3 +139,71 @@ def blank_hull(vertices: np.ndarray, faces: np.ndarray, most: int | None = None)
     pick = np.union1d(first, extreme)
     hv, hf = engine.hull_mesh(v[pick])
     return BlankHull(outer, shape(hv, hf).planes, corners, False)
+
+
+def lies_on_hull(vertices: np.ndarray, faces: np.ndarray, hull_vertices: np.ndarray,
+                 hull_faces: np.ndarray, within: float, block: int = 1 << 16) -> bool:
+    """Does every triangle of a closed mesh (vertices (v, 3) float, faces (f, 3) int, mm) lie
+    within ``within`` mm of its convex hull's boundary (hull mesh: (h, 3), (g, 3), outward)?
+
+    A triangle passes when its three vertices lie within ``within`` of one face plane of the
+    hull — then all of it does (it lies inside the hull, and the plane bounds it). The planes
+    tried are those of the hull triangles whose normals are nearest the triangle's own (three)
+    and whose centres are nearest its centre (four: a hair-thin strip's own normal is only
+    as good as its float32 corners); which planes are tried decides only how often a mesh that
+    does lie on its hull is recognised, never whether one that does not passes. A triangle of
+    no area (no normal of its own; its points lie on an edge of a neighbour, which is tried)
+    passes when its vertices lie within ``within`` of the boundary. A non-convex mesh fails
+    even when every vertex lies on the hull (a quad folded inward along the wrong diagonal)."""
+    from scipy.spatial import cKDTree
+
+    v = np.asarray(vertices, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    scale = max(1.0, float(np.abs(v).max())) ** 2
+    htri = np.asarray(hull_vertices, dtype=float)[np.asarray(hull_faces, dtype=np.int64)]
+    hn = np.cross(htri[:, 1] - htri[:, 0], htri[:, 2] - htri[:, 0])
+    hlen = np.linalg.norm(hn, axis=1)
+    good = hlen > 1e-12 * scale                      # a sliver's plane is noise
+    unit_h = hn[good] / hlen[good, None]
+    planes = np.column_stack([unit_h, np.einsum("ij,ij->i", unit_h, htri[good, 0])])   # one per triangle
+    by_normal = cKDTree(planes[:, :3])
+    by_place = cKDTree(htri[good].mean(axis=1))
+    kn, kp = min(3, len(planes)), min(4, len(planes))
+    for i in range(0, len(f), block):
+        tri = v[f[i : i + block]]                                        # (b, 3, 3)
+        n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        area = np.linalg.norm(n, axis=1)
+        flat = area <= 1e-12 * scale
+        unit = n[~flat] / area[~flat, None]
+        centre = tri[~flat].mean(axis=1)
+        near = np.hstack([by_normal.query(unit, k=kn, workers=-1)[1].reshape(len(unit), kn),
+                          by_place.query(centre, k=kp, workers=-1)[1].reshape(len(unit), kp)])
+        pl = planes[near]                                                # (t, k, 4)
+        gap = np.abs(np.einsum("tkj,tvj->tkv", pl[:, :, :3], tri[~flat]) - pl[:, :, 3:4])
+        if not np.all((gap.max(axis=2) <= within).any(axis=1)):
+            return False
+        pts = tri[flat].reshape(-1, 3)
+        step = max(1, (1 << 22) // len(planes))           # points × planes of at most 4M at a time
+        for j in range(0, len(pts), step):
+            if np.any((planes[:, 3] - pts[j : j + step] @ planes[:, :3].T).min(axis=1) > within):
+                return False
+    return True
+
+
+def as_hull(solid: engine.Solid, within: float) -> engine.Solid:
+    """``solid`` (a blank read from a mesh), or its convex hull when that has fewer triangles
+    and is the same solid within ``within`` mm (:func:`lies_on_hull`, and the volumes differ by
+    no more than a shell that thick): a CAD cylinder of 80,000 triangles (side strips cut along
+    its length) has a hull of 17,000, a convex blank of flat faces a few dozen."""
+    v, f = engine.to_mesh(solid, double=True)
+    if len(f) < 8:
+        return solid
+    hull = engine.hull(v)
+    hv, hf = engine.to_mesh(hull, double=True)
+    if len(hf) >= len(f) or len(hf) < 4:
+        return solid
+    tri = hv[hf]
+    area = 0.5 * float(np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1).sum())
+    if engine.volume(hull) - engine.volume(solid) > within * area:
+        return solid
+    return hull if lies_on_hull(v, f, hv, hf, within) else solid

@@ -5,7 +5,9 @@
 - ``box:x=80,y=60,z=40`` — a box centred on the Z axis in X and Y, top face at Z = 0, material
   toward −Z; or by corners ``box:xmin=..,xmax=..,ymin=..,ymax=..,zmin=..,zmax=..``.
 - ``mesh:path.stl`` — any closed mesh trimesh reads (``.stl``, ``.ply``, ``.obj``, ``.3mf``...),
-  in work coordinates as it is.
+  in work coordinates as it is; a convex one is taken as its convex hull when that has fewer
+  triangles and the mesh lies within ``tol.blank_hull`` (1e-4 mm) of it
+  (:func:`vmach.stock.hull.as_hull`).
 
 Round stock is a polygon straddling the true circle within ``tol.blank_chord``.
 """
@@ -20,6 +22,7 @@ import numpy as np
 
 from vmach.errors import InputError
 from vmach.stock import engine
+from vmach.stock.hull import as_hull
 from vmach.tol import tol
 from vmach.tooling.solid import segments_for, straddle_radius
 
@@ -114,6 +117,7 @@ def load_mesh(path: str | Path) -> engine.Solid:
         raise InputError(f"{p}: no triangles in the file", kind="stock_mesh")
     mesh.merge_vertices()
     try:
-        return engine.from_mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces), str(p))
+        solid = engine.from_mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces), str(p))
     except engine.StockError as exc:
         raise InputError(str(exc), kind="stock_mesh") from None
+    return as_hull(solid, tol.blank_hull)
