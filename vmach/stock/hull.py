@@ -190,17 +190,30 @@ def lies_on_hull(vertices: np.ndarray, faces: np.ndarray, hull_vertices: np.ndar
     return True
 
 
+_LAST: list = []   # [(solid, its hull_of)]: the last one asked for
+
+
+def hull_of(solid: engine.Solid) -> tuple[np.ndarray, np.ndarray, engine.Solid, np.ndarray, np.ndarray]:
+    """The solid's mesh (vertices (v, 3) float, faces (f, 3) int; double precision), its convex
+    hull and the hull's mesh. The last solid's answer is kept (solids do not change): loading a
+    mesh blank (:func:`as_hull`) and its stock's screening hull ask in turn — a second hull of
+    1.3 million triangles would cost 5 s."""
+    if _LAST and _LAST[0][0] is solid:
+        return _LAST[0][1]
+    v, f = engine.to_mesh(solid, double=True)
+    hull = engine.hull(v)
+    hv, hf = engine.to_mesh(hull, double=True)
+    _LAST[:] = [(solid, (v, f, hull, hv, hf))]
+    return _LAST[0][1]
+
+
 def as_hull(solid: engine.Solid, within: float) -> engine.Solid:
     """``solid`` (a blank read from a mesh), or its convex hull when that has fewer triangles
     and is the same solid within ``within`` mm (:func:`lies_on_hull`, and the volumes differ by
     no more than a shell that thick): a CAD cylinder of 80,000 triangles (side strips cut along
     its length) has a hull of 17,000, a convex blank of flat faces a few dozen."""
-    v, f = engine.to_mesh(solid, double=True)
-    if len(f) < 8:
-        return solid
-    hull = engine.hull(v)
-    hv, hf = engine.to_mesh(hull, double=True)
-    if len(hf) >= len(f) or len(hf) < 4:
+    v, f, hull, hv, hf = hull_of(solid)
+    if len(f) < 8 or len(hf) >= len(f) or len(hf) < 4:
         return solid
     tri = hv[hf]
     area = 0.5 * float(np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1).sum())

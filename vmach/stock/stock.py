@@ -41,7 +41,7 @@ from vmach.stock.fan import (
     side_lines,
     side_samples,
 )
-from vmach.stock.hull import BlankHull, blank_hull, box_corners
+from vmach.stock.hull import BlankHull, blank_hull, box_corners, hull_of
 from vmach.stock.slabs import Slabs
 from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
@@ -393,9 +393,7 @@ class Stock:
         to ``CONVEX_TOL``; a blank too small for a hull of four planes is not taken for
         convex)."""
         if self._hull is None:
-            v, _ = engine.to_mesh(self.initial, double=True)
-            hull = engine.hull(v)
-            hv, hf = engine.to_mesh(hull, double=True)
+            _, _, hull, hv, hf = hull_of(self.initial)
             self._hull = blank_hull(hv, hf)
             vol = engine.volume(hull)
             self._blank_convex = (min(len(self._hull.outer), len(self._hull.inner)) >= 4
