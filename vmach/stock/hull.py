@@ -166,28 +166,42 @@ def lies_on_hull(vertices: np.ndarray, faces: np.ndarray, hull_vertices: np.ndar
     good = hlen > 1e-12 * scale                      # a sliver's plane is noise
     unit_h = hn[good] / hlen[good, None]
     planes = np.column_stack([unit_h, np.einsum("ij,ij->i", unit_h, htri[good, 0])])   # one per triangle
-    by_normal = cKDTree(planes[:, :3])
+    # the distinct planes by normal (a cap fanned into thousands of triangles is one plane: a
+    # k-d tree of thousands of equal points is slow), each triangle's by place
+    distinct = np.unique(np.round(planes, 9), axis=0, return_index=True)[1]
+    by_normal = cKDTree(planes[distinct, :3])
     by_place = cKDTree(htri[good].mean(axis=1))
-    kn, kp = min(3, len(planes)), min(4, len(planes))
+    kn, kp = min(3, len(distinct)), min(4, len(planes))
     for i in range(0, len(f), block):
         tri = v[f[i : i + block]]                                        # (b, 3, 3)
         n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         area = np.linalg.norm(n, axis=1)
         flat = area <= 1e-12 * scale
         unit = n[~flat] / area[~flat, None]
-        centre = tri[~flat].mean(axis=1)
-        near = np.hstack([by_normal.query(unit, k=kn, workers=-1)[1].reshape(len(unit), kn),
-                          by_place.query(centre, k=kp, workers=-1)[1].reshape(len(unit), kp)])
-        pl = planes[near]                                                # (t, k, 4)
-        gap = np.abs(np.einsum("tkj,tvj->tkv", pl[:, :, :3], tri[~flat]) - pl[:, :, 3:4])
-        if not np.all((gap.max(axis=2) <= within).any(axis=1)):
-            return False
+        solid_tri = tri[~flat]
+        # the plane nearest in normal first; the others only for the triangles it does not hold
+        first = distinct[by_normal.query(unit, k=1, workers=-1)[1]].reshape(-1, 1)
+        left = ~_held(planes, first, solid_tri, within)
+        if left.any():
+            centre = solid_tri[left].mean(axis=1)
+            near = np.hstack([distinct[by_normal.query(unit[left], k=kn, workers=-1)[1]].reshape(-1, kn),
+                              by_place.query(centre, k=kp, workers=-1)[1].reshape(-1, kp)])
+            if not _held(planes, near, solid_tri[left], within).all():
+                return False
         pts = tri[flat].reshape(-1, 3)
         step = max(1, (1 << 22) // len(planes))           # points × planes of at most 4M at a time
         for j in range(0, len(pts), step):
             if np.any((planes[:, 3] - pts[j : j + step] @ planes[:, :3].T).min(axis=1) > within):
                 return False
     return True
+
+
+def _held(planes: np.ndarray, near: np.ndarray, tri: np.ndarray, within: float) -> np.ndarray:
+    """(t,) bool: triangles (t, 3, 3) whose three corners lie within ``within`` of one of the
+    planes (f, 4) picked for them (``near`` (t, k) int)."""
+    pl = planes[near]                                                    # (t, k, 4)
+    gap = np.abs(np.einsum("tkj,tvj->tkv", pl[:, :, :3], tri) - pl[:, :, 3:4])
+    return (gap.max(axis=2) <= within).any(axis=1)
 
 
 _LAST: list = []   # [(solid, its hull_of)]: the last one asked for
