@@ -79,8 +79,48 @@ def from_mesh(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh", doubl
 
 
 def hull(points: np.ndarray) -> Solid:
-    """Convex hull of points (m, 3) float, mm (empty if degenerate)."""
-    return m3d.Manifold.hull_points(np.ascontiguousarray(points, dtype=np.float64))
+    """Convex hull of points (m, 3) float, mm (empty if degenerate).
+
+    manifold3d's QuickHull (3.5.4) sometimes folds the hull of points many of which are nearly
+    coplanar or nearly equal — a clipped cutter's corners on a trim box, a subdivided face —
+    into a non-convex mesh, its own vertices up to 40 mm beyond one of its faces (20 of the
+    polygon-shaft program's 2,464 hulls; 132 of 300 subdivided random polytopes,
+    ``tests/stock/test_engine.py``). Each hull is checked (:func:`_folded`); a folded one is
+    made again from the extreme points Qhull (scipy) finds, which it never was in those
+    cases."""
+    p = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3)
+    h = m3d.Manifold.hull_points(p)
+    if _folded(h):
+        from scipy.spatial import ConvexHull, QhullError  # (only here: its import is slow)
+
+        try:
+            extreme = p[ConvexHull(p).vertices]
+        except (QhullError, ValueError):                # flat or too few points: no solid anyway
+            return h
+        h = m3d.Manifold.hull_points(np.ascontiguousarray(extreme))
+    return h
+
+
+def _folded(solid: Solid) -> bool:
+    """Does a hull's mesh have a vertex beyond the plane of one of its faces (by more than
+    1e-6 of its size; faces of under 1e-9 of the largest one's area, whose planes are noise,
+    left out)? A convex mesh has none. (Written out for the small arrays of one hull: it runs
+    for every hull, about 30 µs.)"""
+    mesh = solid.to_mesh64()
+    v = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
+    f = np.asarray(mesh.tri_verts, dtype=np.int64).reshape(-1, 3)
+    if len(f) == 0:
+        return False
+    a = v[f[:, 0]]
+    e1, e2 = v[f[:, 1]] - a, v[f[:, 2]] - a
+    n = np.column_stack([e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1],
+                         e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2],
+                         e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]])
+    length = np.sqrt((n * n).sum(axis=1))
+    big = length > 1e-9 * length.max()
+    n, length = n[big], length[big]
+    beyond = v @ n.T - (n * a[big]).sum(axis=1)               # (vertices, faces), times |n|
+    return bool((beyond > 1e-6 * max(1.0, float(np.abs(v).max())) * length).any())
 
 
 def hull_mesh(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
