@@ -85,9 +85,9 @@ def hull(points: np.ndarray) -> Solid:
     coplanar or nearly equal — a clipped cutter's corners on a trim box, a subdivided face —
     into a non-convex mesh, its own vertices up to 40 mm beyond one of its faces (20 of the
     polygon-shaft program's 2,464 hulls; 132 of 300 subdivided random polytopes,
-    ``tests/stock/test_engine.py``). Each hull is checked (:func:`_folded`); a folded one is
-    made again from the extreme points Qhull (scipy) finds, which it never was in those
-    cases."""
+    ``tests/stock/test_engine.py``; upstream: elalish/manifold issue 1785, open). Each hull is
+    checked (:func:`_folded`); a folded one is made again from the extreme points Qhull
+    (scipy) finds, which it never was in those cases."""
     p = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3)
     h = m3d.Manifold.hull_points(p)
     if _folded(h):
