@@ -34,3 +34,15 @@ def test_the_hull_of_points_on_subdivided_faces_is_convex_and_qhulls_volume():
         assert _beyond(h) < 1e-6 * 100, seed
         ref = ConvexHull(p).volume
         assert abs(engine.volume(h) - ref) < 1e-9 * ref, seed
+
+
+def test_a_fine_blanks_hull_is_made_without_a_vertex_by_face_product():
+    """A 41,000-vertex sphere's hull has 82,000 faces: checking every vertex against every
+    face would take 3.4e9 products (25 GB at once, as it first did); such a hull is left
+    unchecked (engine.HULL_CHECK_MOST), a smaller one is checked in blocks."""
+    m = trimesh.creation.icosphere(subdivisions=6, radius=30.0)
+    h = engine.hull(np.asarray(m.vertices))
+    assert engine.num_triangles(h) == len(m.faces)
+    assert abs(engine.volume(h) - m.volume) < 1e-9 * m.volume
+    small = trimesh.creation.icosphere(subdivisions=4, radius=30.0)
+    assert not engine._folded(engine.hull(np.asarray(small.vertices)), block=1000)

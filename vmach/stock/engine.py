@@ -78,6 +78,13 @@ def from_mesh(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh", doubl
     return solid
 
 
+#: a folded hull of up to this many points is made again from Qhull's extreme points (Qhull
+#: takes a minute on a 40,000-point CAD cylinder); hulls whose check would take more than
+#: HULL_CHECK_MOST vertex × face products (a fine blank's) are not checked
+HULL_QHULL_MOST = 4096
+HULL_CHECK_MOST = 500_000_000
+
+
 def hull(points: np.ndarray) -> Solid:
     """Convex hull of points (m, 3) float, mm (empty if degenerate).
 
@@ -85,27 +92,32 @@ def hull(points: np.ndarray) -> Solid:
     coplanar or nearly equal — a clipped cutter's corners on a trim box, a subdivided face —
     into a non-convex mesh, its own vertices up to 40 mm beyond one of its faces (20 of the
     polygon-shaft program's 2,464 hulls; 132 of 300 subdivided random polytopes,
-    ``tests/stock/test_engine.py``; upstream: elalish/manifold issue 1785, open). Each hull is
-    checked (:func:`_folded`); a folded one is made again from the extreme points Qhull
-    (scipy) finds, which it never was in those cases."""
+    ``tests/stock/test_engine.py``; upstream: elalish/manifold issue 1785, open). The hull of
+    the extreme points Qhull (scipy) finds never was, in those cases. So a hull is checked
+    (:func:`_folded`) while that costs under ``HULL_CHECK_MOST`` products, and a folded one is
+    made again from Qhull's extreme points (up to ``HULL_QHULL_MOST`` points; beyond, from the
+    points rounded to 1e-9 mm and taken once, which mends most)."""
     p = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3)
     h = m3d.Manifold.hull_points(p)
-    if _folded(h):
-        from scipy.spatial import ConvexHull, QhullError  # (only here: its import is slow)
+    if h.num_vert() * h.num_tri() <= HULL_CHECK_MOST and _folded(h):
+        if len(p) <= HULL_QHULL_MOST:
+            from scipy.spatial import ConvexHull, QhullError  # (only here: its import is slow)
 
-        try:
-            extreme = p[ConvexHull(p).vertices]
-        except (QhullError, ValueError):                # flat or too few points: no solid anyway
-            return h
-        h = m3d.Manifold.hull_points(np.ascontiguousarray(extreme))
+            try:
+                p = p[np.sort(ConvexHull(p).vertices)]
+            except (QhullError, ValueError):           # flat, or too few points: no solid
+                return h
+        else:
+            p = np.unique(np.round(p, 9), axis=0)
+        h = m3d.Manifold.hull_points(np.ascontiguousarray(p))
     return h
 
 
-def _folded(solid: Solid) -> bool:
+def _folded(solid: Solid, block: int = 1 << 22) -> bool:
     """Does a hull's mesh have a vertex beyond the plane of one of its faces (by more than
     1e-6 of its size; faces of under 1e-9 of the largest one's area, whose planes are noise,
-    left out)? A convex mesh has none. (Written out for the small arrays of one hull: it runs
-    for every hull, about 30 µs.)"""
+    left out)? A convex mesh has none; a fold need not show at any one edge, so every vertex
+    is tried against every face (``block`` products at a time)."""
     mesh = solid.to_mesh64()
     v = np.asarray(mesh.vert_properties, dtype=np.float64)[:, :3]
     f = np.asarray(mesh.tri_verts, dtype=np.int64).reshape(-1, 3)
@@ -118,9 +130,13 @@ def _folded(solid: Solid) -> bool:
                          e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]])
     length = np.sqrt((n * n).sum(axis=1))
     big = length > 1e-9 * length.max()
-    n, length = n[big], length[big]
-    beyond = v @ n.T - (n * a[big]).sum(axis=1)               # (vertices, faces), times |n|
-    return bool((beyond > 1e-6 * max(1.0, float(np.abs(v).max())) * length).any())
+    n, d = n[big], (n * a).sum(axis=1)[big]
+    limit = 1e-6 * max(1.0, float(np.abs(v).max())) * length[big]
+    step = max(1, block // len(n))
+    for i in range(0, len(v), step):
+        if np.any(v[i : i + step] @ n.T - d > limit):             # beyond a plane, times |n|
+            return True
+    return False
 
 
 def hull_mesh(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -234,6 +234,6 @@ def as_hull(solid: engine.Solid, within: float) -> engine.Solid:
     if len(f) < 8 or len(hf) >= len(f) or len(hf) < 4:
         return solid
     area = 0.5 * float(normals(hv[hf])[1].sum())
-    if engine.volume(hull) - engine.volume(solid) > within * area:
+    if abs(engine.volume(hull) - engine.volume(solid)) > within * area:   # (a hull is never smaller)
         return solid
     return hull if lies_on_hull(v, f, hv, hf, within) else solid
