@@ -258,8 +258,10 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
                 preload()
 
             acc = ACCURACY[report.accuracy]
-            stock = Stock.from_spec(spec, progress=not options.quiet, chord=acc.tool_chord,
+            notes: list = []
+            stock = Stock.from_spec(spec, notes=notes, progress=not options.quiet, chord=acc.tool_chord,
                                     cusp=acc.sweep_cusp)
+            report.findings.extend(Finding("blank_hull", "info", m, data=d) for m, d in notes)
             sim = simulate(table, model, library, stock, checks=True, clearance=options.clearance)
             engine.check(stock.solid)      # the last queued cutters subtracted: the stock's work
             report.part = stock

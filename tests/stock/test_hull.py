@@ -124,8 +124,12 @@ def test_a_convex_mesh_blank_is_taken_as_its_hull_and_a_dented_one_as_it_is(tmp_
 
     v, f = _ringed_cylinder()
     trimesh.Trimesh(v, f, process=False).export(tmp_path / "cyl.stl")
-    solid = parse_stock(f"mesh:{tmp_path / 'cyl.stl'}")
+    notes: list = []
+    solid = parse_stock(f"mesh:{tmp_path / 'cyl.stl'}", notes=notes)
     assert engine.num_triangles(solid) < len(f) / 4
+    # said (verify reports it as a blank_hull info finding)
+    assert [d for _, d in notes] == [{"triangles": len(f), "hull_triangles": engine.num_triangles(solid),
+                                      "within_mm": tol.blank_hull}]
     stl = trimesh.load(tmp_path / "cyl.stl", force="mesh")                # its float32 corners
     exact = engine.from_mesh(np.asarray(stl.vertices), np.asarray(stl.faces))
     assert abs(engine.volume(solid) - engine.volume(exact)) < 1e-9 * engine.volume(exact)
@@ -133,7 +137,9 @@ def test_a_convex_mesh_blank_is_taken_as_its_hull_and_a_dented_one_as_it_is(tmp_
     dented = v.copy()
     dented[4 * 400 + 7, :2] *= 1.0 - 10 * tol.blank_hull / 30.0           # on the side, mid-length
     trimesh.Trimesh(dented, f, process=False).export(tmp_path / "dent.stl")
-    assert engine.num_triangles(parse_stock(f"mesh:{tmp_path / 'dent.stl'}")) == len(f)
+    notes = []
+    assert engine.num_triangles(parse_stock(f"mesh:{tmp_path / 'dent.stl'}", notes=notes)) == len(f)
+    assert notes == []
 
 
 def test_a_mesh_whose_vertices_all_lie_on_its_hull_is_not_taken_for_it_when_a_face_folds_in():

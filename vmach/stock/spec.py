@@ -47,10 +47,11 @@ def _params(kind: str, text: str, allowed: set[str]) -> dict[str, float]:
     return out
 
 
-def parse_stock(spec: str, base: str | Path | None = None) -> engine.Solid:
+def parse_stock(spec: str, base: str | Path | None = None, notes: list | None = None) -> engine.Solid:
     """The stock solid of a spec string; bad specs raise :class:`InputError`, so does a
-    stock larger than ``tol.max_size`` in any direction."""
-    solid = _parse(spec, base)
+    stock larger than ``tol.max_size`` in any direction. ``notes`` (a list) receives
+    ``(message, data)`` for what was made of the spec (a mesh blank cut as its hull)."""
+    solid = _parse(spec, base, notes)
     size = np.ptp(engine.bounds(solid), axis=0).max()
     if not size <= tol.max_size:
         raise InputError(f"stock {spec!r}: {size:g} mm across, larger than any machine "
@@ -58,7 +59,7 @@ def parse_stock(spec: str, base: str | Path | None = None) -> engine.Solid:
     return solid
 
 
-def _parse(spec: str, base: str | Path | None) -> engine.Solid:
+def _parse(spec: str, base: str | Path | None, notes: list | None = None) -> engine.Solid:
     kind, sep, rest = spec.partition(":")
     kind = kind.strip().lower()
     if not sep:
@@ -97,13 +98,14 @@ def _parse(spec: str, base: str | Path | None) -> engine.Solid:
         path = Path(rest.strip())
         if base is not None and not path.is_absolute():
             path = Path(base) / path
-        return load_mesh(path)
+        return load_mesh(path, notes)
     raise InputError(f"stock {spec!r}: unknown kind {kind!r} (cylinder, box, mesh)",
                      kind="stock_spec")
 
 
-def load_mesh(path: str | Path) -> engine.Solid:
-    """A closed mesh file as a solid (trimesh reads it)."""
+def load_mesh(path: str | Path, notes: list | None = None) -> engine.Solid:
+    """A closed mesh file as a solid (trimesh reads it); a convex one as its hull when that
+    has fewer triangles (:func:`vmach.stock.hull.as_hull`; said in ``notes``)."""
     import trimesh
 
     p = Path(path)
@@ -120,4 +122,10 @@ def load_mesh(path: str | Path) -> engine.Solid:
         solid = engine.from_mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces), str(p))
     except engine.StockError as exc:
         raise InputError(str(exc), kind="stock_mesh") from None
-    return as_hull(solid, tol.blank_hull)
+    cut = as_hull(solid, tol.blank_hull)
+    if cut is not solid and notes is not None:
+        n, m = engine.num_triangles(solid), engine.num_triangles(cut)
+        notes.append((f"{p}: a convex blank of {n} triangles, cut as its convex hull ({m} triangles; "
+                      f"every triangle of the mesh within {tol.blank_hull:g} mm of it)",
+                      {"triangles": n, "hull_triangles": m, "within_mm": tol.blank_hull}))
+    return cut

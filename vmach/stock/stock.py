@@ -201,8 +201,10 @@ class Stock:
         self._union_seconds = 0.0   # the cells' union into one solid
 
     @classmethod
-    def from_spec(cls, spec: str, **kw) -> Stock:
-        return cls(parse_stock(spec), **kw)
+    def from_spec(cls, spec: str, notes: list | None = None, **kw) -> Stock:
+        """The stock of a spec string (:func:`vmach.stock.spec.parse_stock`, which fills
+        ``notes``)."""
+        return cls(parse_stock(spec, notes=notes), **kw)
 
     # ----------------------------------------------------------------------------------------
     def _partition(self, solid: engine.Solid, cells) -> list[Piece]:
