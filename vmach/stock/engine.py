@@ -124,10 +124,7 @@ def _folded(solid: Solid, block: int = 1 << 22) -> bool:
     if len(f) == 0:
         return False
     a = v[f[:, 0]]
-    e1, e2 = v[f[:, 1]] - a, v[f[:, 2]] - a
-    n = np.column_stack([e1[:, 1] * e2[:, 2] - e1[:, 2] * e2[:, 1],
-                         e1[:, 2] * e2[:, 0] - e1[:, 0] * e2[:, 2],
-                         e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]])
+    n = np.cross(v[f[:, 1]] - a, v[f[:, 2]] - a)
     length = np.sqrt((n * n).sum(axis=1))
     big = length > 1e-9 * length.max()
     n, d = n[big], (n * a).sum(axis=1)[big]

@@ -78,9 +78,9 @@ class Slabs:
         nb = int(b1.max()) + 1 if len(tri) else 1
         xy_lo, xy_hi = tri[:, :, :2].min(axis=1), tri[:, :, :2].max(axis=1)
         r = np.hypot(tri[:, :, 0], tri[:, :, 1]).max(axis=1)
-        lo = _range_min(nb, b0, b1, xy_lo)
-        hi = -_range_min(nb, b0, b1, -xy_hi)
-        rmax = -_range_min(nb, b0, b1, -r[:, None])[:, 0]
+        # the least x, y and the greatest x, y, r per bin, in one pass over the bins
+        least = _range_min(nb, b0, b1, np.column_stack([xy_lo, -xy_hi, -r]))
+        lo, hi, rmax = least[:, :2], -least[:, 2:4], -least[:, 4]
         return cls(z0, step, lo, hi, rmax, float(zmax.max()) if len(tri) else 0.0)
 
     def holds(self, points: np.ndarray) -> np.ndarray:
