@@ -278,3 +278,30 @@ def test_an_export_may_go_into_the_out_directory_verify_makes(tmp_path, capsys):
     assert main(base + ["--out", str(tmp_path / "o2"), "--export", str(afile / "part.stl")]) == 2
     assert "error[unwritable]" in capsys.readouterr().err
     assert afile.read_text() == "x" and not (tmp_path / "o2").exists()
+
+
+def test_files_written_whole_get_the_usual_permissions(tmp_path):
+    """report.json came out 0600 (mkstemp's mode) beside 0644 pictures: a CI artifact or a
+    shared directory could not read it. A new file gets 0666 less the umask; a file written
+    over keeps its mode."""
+    import os
+    import stat
+
+    from vmach.output import atomic_writer
+
+    old = os.umask(0o022)
+    try:
+        with atomic_writer(tmp_path / "new.json") as fh:
+            fh.write("{}")
+        assert stat.S_IMODE((tmp_path / "new.json").stat().st_mode) == 0o644
+        os.umask(0o077)
+        with atomic_writer(tmp_path / "private.json") as fh:
+            fh.write("{}")
+        assert stat.S_IMODE((tmp_path / "private.json").stat().st_mode) == 0o600
+        (tmp_path / "new.json").chmod(0o640)
+        with atomic_writer(tmp_path / "new.json") as fh:
+            fh.write("[]")
+        assert stat.S_IMODE((tmp_path / "new.json").stat().st_mode) == 0o640
+        assert (tmp_path / "new.json").read_text() == "[]"
+    finally:
+        os.umask(old)

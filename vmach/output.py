@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -14,13 +15,17 @@ from vmach.errors import InputError
 
 @contextmanager
 def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO]:
-    """Write to a temporary file beside ``path`` and rename it into place on success only."""
+    """Write to a temporary file beside ``path`` and rename it into place on success only.
+
+    The file gets the mode of the one it replaces, or a new file's (0666 less the umask) —
+    not the temporary file's 0600."""
     target = writable_file(path)
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
     except OSError as exc:
         raise _unwritable(path, exc) from None
     try:
+        os.chmod(fd, _mode_for(target))
         with os.fdopen(fd, mode, encoding=None if "b" in mode else "utf-8") as fh:
             yield fh
         try:
@@ -33,6 +38,17 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO]:
         except OSError:
             pass
         raise
+
+
+def _mode_for(target: Path) -> int:
+    """Permission bits for a file written at ``target``: those of the file there, else 0666
+    less the process's umask (read by setting it and back: Python has no getter)."""
+    try:
+        return stat.S_IMODE(target.stat().st_mode)
+    except OSError:
+        mask = os.umask(0o022)
+        os.umask(mask)
+        return 0o666 & ~mask
 
 
 def _unwritable(path, exc: OSError) -> InputError:
