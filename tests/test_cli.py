@@ -305,3 +305,21 @@ def test_files_written_whole_get_the_usual_permissions(tmp_path):
         assert (tmp_path / "new.json").read_text() == "[]"
     finally:
         os.umask(old)
+
+
+def test_a_write_that_fails_half_way_leaves_nothing_and_is_an_error(tmp_path):
+    """A full disk while writing (OSError from the writer) is error[unwritable], with neither
+    the target nor the temporary file left; a picture is written the same way, so a PNG is
+    never half there (it was written straight to its name by VTK)."""
+    import errno
+
+    from vmach.errors import InputError
+    from vmach.output import atomic_writer
+
+    target = tmp_path / "report.json"
+    with pytest.raises(InputError) as err:
+        with atomic_writer(target) as fh:
+            fh.write("{" * 1000)
+            raise OSError(errno.ENOSPC, "No space left on device")
+    assert err.value.kind == "unwritable" and "No space left" in str(err.value)
+    assert list(tmp_path.iterdir()) == []

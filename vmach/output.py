@@ -26,8 +26,11 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO]:
         raise _unwritable(path, exc) from None
     try:
         os.chmod(fd, _mode_for(target))
-        with os.fdopen(fd, mode, encoding=None if "b" in mode else "utf-8") as fh:
-            yield fh
+        try:
+            with os.fdopen(fd, mode, encoding=None if "b" in mode else "utf-8") as fh:
+                yield fh
+        except OSError as exc:                     # the disk filled up, the quota ran out
+            raise _unwritable(path, exc) from None
         try:
             os.replace(tmp, target)
         except OSError as exc:

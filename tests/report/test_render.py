@@ -126,3 +126,23 @@ def test_preload_imports_pyvista_in_the_background(gl, tmp_path):
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
     assert out.stat().st_size > 1000
+
+
+def test_a_picture_that_cannot_be_written_whole_is_not_left_half_written(gl, tmp_path, monkeypatch):
+    """The PNG is encoded into a temporary file and renamed into place: a write that fails half
+    way (a full disk) is error[unwritable] and leaves no picture and no temporary file."""
+    import errno
+
+    from PIL import Image
+
+    from vmach.errors import InputError
+
+    def full_disk(self, fh, *args, **kwargs):
+        fh.write(b"\x89PNG\r\n\x1a\n" + b"\0" * 100)
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(Image.Image, "save", full_disk)
+    with pytest.raises(InputError) as err:
+        render.chart_png(tmp_path / "x.png", [(np.arange(3.0), np.arange(3.0), "x", "b")], "x", "y")
+    assert err.value.kind == "unwritable"
+    assert list(tmp_path.iterdir()) == []

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from vmach.errors import InputError
+from vmach.output import atomic_writer
 
 #: fixed look of every picture (image-regression tests compare against it)
 WINDOW = (800, 800)
@@ -103,11 +104,13 @@ def _save(plotter, out: Path) -> Path:
         plotter.close()
         raise InputError(f"{out}: pictures are written as .png", kind="export_format")
     try:
-        plotter.screenshot(str(out))
-    except OSError as exc:
-        raise InputError(f"{out}: cannot write: {exc.strerror or exc}", kind="unwritable") from None
+        image = plotter.screenshot(None, return_img=True)   # (h, w, 3) uint8
     finally:
         plotter.close()
+    from PIL import Image
+
+    with atomic_writer(out, "wb") as fh:           # whole or not at all, as every file vmach writes
+        Image.fromarray(np.asarray(image, dtype=np.uint8)).save(fh, format="PNG")
     return out
 
 
