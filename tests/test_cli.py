@@ -323,3 +323,26 @@ def test_a_write_that_fails_half_way_leaves_nothing_and_is_an_error(tmp_path):
             raise OSError(errno.ENOSPC, "No space left on device")
     assert err.value.kind == "unwritable" and "No space left" in str(err.value)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_run_and_verify_compensate_with_the_tool_librarys_radius(tmp_path, capsys):
+    """G41 takes the radius of the active D offset from the tool library (--tools, or the
+    setup file's): GLOD D40's D1 is 20 mm. Without a library G41 is error[no_tool_radius]."""
+    import json
+
+    tools = str(ROOT / "fixtures/tools/polygon_shaft.toml")
+    p = prog(tmp_path, 'T="GLOD D40" D1\nG17 G0 X-50 Y-50 Z5\nG1 F500 G41 X0 Y0\nY40\nG40 X-50 Y60\nM30\n')
+    assert main(["run", p, "--format", "json", "--tools", tools]) == 0
+    feeds = [json.loads(x) for x in capsys.readouterr().out.splitlines()]
+    feeds = [c for c in feeds if c["kind"] == "feed"]
+    assert [(c["axes"]["X"], c["axes"]["Y"], c["line"]) for c in feeds] == [
+        (-20.0, 0.0, 3), (-20.0, 40.0, 4), (-50.0, 60.0, 5)]
+    assert main(["run", p]) == 1
+    err = capsys.readouterr().err
+    assert "P.MPF:3:" in err and "error[no_tool_radius]" in err and "--tools" in err
+    (tmp_path / "vmach.toml").write_text(f'tools = "{tools}"\n')
+    assert main(["run", p]) == 0
+    capsys.readouterr()
+    assert main(["verify", p, "--machine", "turnmill", "--out", str(tmp_path / "o"), "--no-images"]) in (0, 1)
+    report = json.loads((tmp_path / "o" / "report.json").read_text())
+    assert not [f for f in report["findings"] if f["kind"] == "no_tool_radius"]

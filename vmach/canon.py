@@ -25,7 +25,7 @@ Contracts every interpreter keeps:
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -429,10 +429,14 @@ class RunOptions:
 
     max_blocks : blocks executed before the run stops with ``block_limit`` (infinite loops).
     max_call_depth : nested subprogram calls before ``call_depth``.
+    tool_radius : ``(tool, D number) -> radius`` (mm, or None for an offset the tool lacks),
+        for tool radius compensation (G41/G42); the tool as :class:`ToolChange` names it
+        (``"GLOD D40"``, ``"1"``). None when no tool library was given.
     """
 
     max_blocks: int = 10_000_000
     max_call_depth: int = 16
+    tool_radius: Callable[[str, int], float | None] | None = None
 
 
 @dataclass(slots=True)

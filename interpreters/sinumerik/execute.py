@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 
+from interpreters.sinumerik.cutcom import Compensator
 from interpreters.sinumerik.frames import Frames, modulo_target, rot_axis, rpy
 from vmach import canon
 from vmach.canon import AxisSpec, ControlSpec
@@ -114,6 +115,15 @@ class Machine:
         self.spindles: dict[int, list] = {s: [0.0, "stop"] for s in control.spindles}
         self.coolant: set[str] = set()
         self.tool: str | None = None
+        self.edge = 0                   # active D number (D1 after a tool change)
+        #: (tool, D) -> radius (mm) for tool radius compensation; None: no tool library
+        self.tool_radius_of = None
+        self.cutcom = Compensator(self)
+
+    @property
+    def plane_axes(self) -> tuple[str, str, str]:
+        """(first, second, normal) axis names of the working plane."""
+        return PLANES[self.plane]
 
     def add_axis(self, name: str) -> None:
         kind = "rotary" if name[0] in "ABC" else "linear"
@@ -164,6 +174,7 @@ class Machine:
         dwell = False
         suppress = False
         block_exact = False
+        comp = None
         for col, code in v.gcodes:
             name = code.name
             grp = code.group
@@ -173,6 +184,9 @@ class Machine:
                 dwell = True
             elif grp == 6:
                 if name != self.plane:
+                    if self.cutcom.engaged:
+                        raise ProgramError("cutcom", f"{name}: the plane cannot change while tool radius "
+                                           "compensation is active (G40 first)", src.at(col))
                     self.plane = name
                     out.append(canon.PlaneSelect(src, plane=PLANES[name]))
             elif grp == 14:
@@ -206,6 +220,12 @@ class Machine:
                 self.path_mode = name
             elif grp == 11:
                 block_exact = True
+            elif grp == 7:
+                comp = (name, col)
+            elif grp == 17:
+                self.cutcom.approach = name
+            elif grp == 18:
+                self.cutcom.corner = name
         if v.setms is not None:
             if v.setms not in self.spindles:
                 if self.control.strict_axes:
@@ -235,9 +255,18 @@ class Machine:
             number = int(t) if not isinstance(t, str) else None
             name = t if isinstance(t, str) else str(int(t))
             self.tool = name
+            self.edge = 1 if v.edge is None else v.edge
             out.append(canon.ToolChange(src, tool=name, number=number, offset=v.edge))
         elif v.edge is not None:
+            self.edge = v.edge
             out.append(canon.ToolOffset(src, offset=v.edge))
+        if comp is not None:
+            if comp[0] == "G40":
+                self.cutcom.deselect()
+            else:
+                self.cutcom.select(comp[0], self.tool_radius(comp[0], src.at(comp[1])), src.at(comp[1]))
+        elif v.edge is not None and self.cutcom.state == "on":
+            self.cutcom.radius = self.tool_radius("D", src)
         end = None
         pause = None
         for spindle, m, col in v.ms:
@@ -263,6 +292,8 @@ class Machine:
                 continue
             elif m in (2, 30, 17):
                 end = f"M{m}"
+                if m != 17:
+                    self.cutcom.finish()
                 continue
             elif m == 6:
                 continue  # tools change at T on this control (tool change mode "T")
@@ -305,6 +336,21 @@ class Machine:
             self.spindles[s] = [0.0, "stop"]
         return self.spindles[s]
 
+    def tool_radius(self, code: str, src: SourceRef) -> float:
+        """Radius (mm) of the active tool's D offset, for tool radius compensation."""
+        if self.edge == 0:
+            return 0.0                  # D0: no offset
+        if self.tool is None:
+            raise ProgramError("no_tool_radius", f"{code}: no tool is selected (T...)", src)
+        if self.tool_radius_of is None:
+            raise ProgramError("no_tool_radius", f"{code}: the radius of tool {self.tool} D{self.edge} "
+                               "is not known; give a tool library (--tools)", src, tool=self.tool)
+        r = self.tool_radius_of(self.tool, self.edge)
+        if r is None:
+            raise ProgramError("no_tool_radius", f"{code}: the tool library has no D{self.edge} for tool "
+                               f"{self.tool}", src, tool=self.tool, edge=self.edge)
+        return float(r)
+
     # ------------------------------------------------------------------------------------
     def frame(self, v: Values, src: SourceRef) -> None:
         fc = v.frame
@@ -344,19 +390,29 @@ class Machine:
         if new is None:
             new = self._targets(v, src, suppress)
         motion = self.motion
+        centre = None
         if motion == "G1":
             if self.feed <= 0:
                 raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
-            self.out.append(canon.LinearFeed(src, axes=new, feed=self.feed))
+            cmd = canon.LinearFeed(src, axes=new, feed=self.feed)
         elif motion == "G0":
-            self.out.append(canon.Traverse(src, axes=new))
+            cmd = canon.Traverse(src, axes=new)
         else:
-            self.arc(v, src, new, suppress)
+            cmd, centre = self.arc(v, src, new, suppress)
+        if self.cutcom.engaged:
+            if suppress:
+                raise ProgramError("cutcom", "G53/G153/SUPA while tool radius compensation is active", src)
+            g = self.geometry
+            start3 = self.frames.to_program(tuple(self.pos[n] for n in g))
+            end3 = self.frames.to_program(tuple(new[n] for n in g))
+            self.cutcom.take(cmd, start3, end3, centre, src)
+        else:
+            self.out.append(cmd)
         self.pos = new
 
     def straight(self, words: list, src: SourceRef) -> bool:
         """Fast path for blocks of G0/G1 axis words only; False when it does not apply."""
-        if self.inch or self.diameter or self.frames.rotated:
+        if self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged:
             return False
         new = self._plain_targets(words)
         if new is None:
@@ -470,7 +526,8 @@ class Machine:
                 new[n] = m[i]
         return new
 
-    def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool) -> None:
+    def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool) -> tuple:
+        """The block's ArcFeed and its centre (a, b) in program coordinates of the plane."""
         g = self.geometry
         plane = PLANES[self.plane]
         a_name, b_name, _ = plane
@@ -516,17 +573,9 @@ class Machine:
         turns = int(v.interp.get("TURN", (0, None))[0])
         if self.feed <= 0:
             raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
-        self.out.append(
-            canon.ArcFeed(
-                src,
-                axes=new,
-                plane=plane,
-                center=(cm[ia], cm[ib]),
-                clockwise=cw,
-                turns=turns,
-                feed=self.feed,
-            )
-        )
+        cmd = canon.ArcFeed(src, axes=new, plane=plane, center=(cm[ia], cm[ib]), clockwise=cw,
+                            turns=turns, feed=self.feed)
+        return cmd, (ca, cb)
 
 
 def _centre_from_radius(xa, ya, xb, yb, r, cw, src):

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.compile import CALL, STOP, compile_block
+from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
 from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
 from interpreters.sinumerik.parser import parse_program
@@ -97,6 +98,7 @@ class Interpreter:
         self.out: list[canon.Command] = []
         self.findings: list[Finding] = []
         self.machine = Machine(control, self.out)
+        self.machine.tool_radius_of = options.tool_radius
         self.loaded: dict[str, Loaded] = {}
         self.stack: list[Level] = []
         self.pending: tuple | None = None
@@ -125,7 +127,7 @@ class Interpreter:
         except ProgramError as exc:
             self.findings.append(exc.finding)
             completed = False
-        return RunResult(self.out, self.findings, completed, self.blocks)
+        return RunResult(flatten(self.out), self.findings, completed, self.blocks)
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:
@@ -217,6 +219,7 @@ class Interpreter:
             src = self.src(level, last) if last else SourceRef(program.path, 1)
             if pc >= n and len(self.stack) == 1:
                 self.findings.append(warning("missing_program_end", "the program ends without M30/M2", src))
+                self.machine.cutcom.finish()
                 self.out.append(canon.ProgramEnd(src, code="EOF"))
             if not self.pop(src):
                 return

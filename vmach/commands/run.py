@@ -34,6 +34,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help=f"stop after this many blocks (default {tol.max_blocks:,})",
     )
     p.add_argument("--tool-table", help="LinuxCNC tool table (.tbl) for RS274/NGC programs")
+    p.add_argument("--tools", help="tool library (.toml): the D offsets' radii for G41/G42 "
+                   "(default: the setup file's)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -44,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--max-blocks must be at least 1", kind="usage")
     control, model_path = control_for(path, args.machine)
     dialect = interpreters.dialect_for(path, args.dialect, control.dialect)
-    options = RunOptions(max_blocks=args.max_blocks)
+    options = RunOptions(max_blocks=args.max_blocks, tool_radius=_tool_radius(path, args.tools))
     if args.format in ("text", "json"):
         result = dialect.run(args.program, control, options)
         if args.format == "json":
@@ -85,6 +87,16 @@ def _json_line(cmd, drives: dict | None) -> str:
     row = cmd.to_json()
     row["drives"] = drives
     return json.dumps(row, ensure_ascii=False)
+
+
+def _tool_radius(program: Path, tools: str | None):
+    """The tool library's radius lookup for tool radius compensation: ``--tools``, else the
+    setup file's library, else None."""
+    from vmach.setup import read_setup
+    from vmach.tooling.library import load_tools
+
+    path = Path(tools) if tools else read_setup(program).tools
+    return load_tools(path).radius if path is not None else None
 
 
 def _drive_values(model_path: Path | None, result: RunResult) -> dict[int, dict]:

@@ -75,6 +75,20 @@ class ToolLibrary:
             found = self._by_number.get(int(text))
         return found
 
+    def radius(self, tool: str | int, d: int) -> float | None:
+        """Radius (mm) of offset D``d`` of the tool a program calls, for tool radius
+        compensation: the offset's radius, else half the diameter; a tool without offsets has
+        D1. None when the tool or the offset is not in the library."""
+        found = self.lookup(tool)
+        if found is None:
+            return None
+        if not found.offsets:
+            return found.diameter / 2.0 if d == 1 else None
+        off = found.offsets.get(int(d))
+        if off is None:
+            return None
+        return off.radius if off.radius is not None else found.diameter / 2.0
+
     def __getitem__(self, tool: str | int) -> Tool:
         found = self.lookup(tool)
         if found is None:
