@@ -71,6 +71,8 @@ class Element:
     cw, turns : arc direction and extra full turns. start3, end3 : programmed start and end,
     all three geometry axes. cmd : the programmed (uncompensated) command. slot : its place.
     q0 : compensated start (a, b), set when the element before it was resolved.
+    r : the tool radius it is compensated with (a D change while compensating applies from the
+    next element on; a straight line joins paths of different radii).
     """
 
     p0: Point
@@ -83,6 +85,7 @@ class Element:
     cw: bool = False
     turns: int = 0
     q0: Point | None = None
+    r: float = 0.0
     before: list[canon.Command] = field(default_factory=list)   # transition from the last element
 
     def tangent(self, at_end: bool) -> Point:
@@ -176,13 +179,13 @@ class Compensator:
         slot = Slot()
         out.append(slot)
         elem = Element(p0, p1, tuple(end3), cmd, src, slot, centre,
-                       bool(getattr(cmd, "clockwise", False)), int(getattr(cmd, "turns", 0)))
+                       bool(getattr(cmd, "clockwise", False)), int(getattr(cmd, "turns", 0)), r=self.radius)
         if centre is not None and self._offset_radius(elem) <= ON:
             raise ProgramError(
                 "cutcom_radius",
                 f"the arc's radius {elem.radius:.4f} mm is not larger than the tool radius "
-                f"{self.radius:.4f} mm on the side the tool runs",
-                src, arc_radius=elem.radius, tool_radius=self.radius)
+                f"{elem.r:.4f} mm on the side the tool runs",
+                src, arc_radius=elem.radius, tool_radius=elem.r)
         if self.state == "selecting":
             if centre is not None:
                 raise ProgramError("cutcom", "G41/G42 must be selected in a G0/G1 block", src)
@@ -201,15 +204,15 @@ class Compensator:
         self.state = "off"
 
     # -- geometry ------------------------------------------------------------------------
-    def _offset(self, t: Point) -> Point:
+    def _offset(self, t: Point, r: float) -> Point:
         """The tool centre's offset from the contour for a path of unit tangent t (mm)."""
-        s = self.side * self.radius
+        s = self.side * r
         return (-t[1] * s, t[0] * s)
 
     def _offset_radius(self, e: Element) -> float:
         """Radius of the compensated arc: R − r where the tool runs inside."""
         sigma = -1.0 if e.cw else 1.0
-        return e.radius - self.side * sigma * self.radius
+        return e.radius - self.side * sigma * e.r
 
     def _resolve(self, nxt: Element | None) -> None:
         """Fix the pending element's compensated end (and ``nxt``'s start and transition),
@@ -219,9 +222,9 @@ class Compensator:
             return
         approach, self.approach_block = self.approach_block, False
         if nxt is None:
-            end = _add(a.p1, self._offset(a.tangent(True)))
+            end = _add(a.p1, self._offset(a.tangent(True), a.r))
         elif approach:
-            end = _add(nxt.p0, self._offset(nxt.tangent(False)))
+            end = _add(nxt.p0, self._offset(nxt.tangent(False), nxt.r))
             nxt.q0 = end
         else:
             end = self._corner(a, nxt)
@@ -234,8 +237,12 @@ class Compensator:
     def _corner(self, a: Element, b: Element) -> Point:
         """Compensated end of a and start of b where they meet (p = a.p1 = b.p0)."""
         ta, tb = a.tangent(True), b.tangent(False)
-        qa, qb = _add(a.p1, self._offset(ta)), _add(b.p0, self._offset(tb))
+        qa, qb = _add(a.p1, self._offset(ta, a.r)), _add(b.p0, self._offset(tb, b.r))
         turn = math.atan2(_cross(ta, tb), ta[0] * tb[0] + ta[1] * tb[1])
+        if a.r != b.r:                          # a new radius: straight from one path to the other
+            b.q0 = qb
+            b.before.append(self._link(a, qb, b))
+            return qa
         if abs(turn) < TANGENT:
             b.q0 = qa
             return qa
@@ -245,19 +252,31 @@ class Compensator:
             if x is None:
                 raise ProgramError(
                     "cutcom_collision",
-                    f"the tool (radius {self.radius:.4f} mm) does not fit into the inside corner "
+                    f"the tool (radius {b.r:.4f} mm) does not fit into the inside corner "
                     f"with line {a.src.line}: the compensated paths do not meet",
-                    b.src, tool_radius=self.radius, other_line=a.src.line)
+                    b.src, tool_radius=b.r, other_line=a.src.line)
             b.q0 = x
             return x
         if self.corner == "G451" and abs(abs(turn) - math.pi) > 1e-6:
-            x = _lines(qa, ta, qb, tb)
-            if x is not None:
-                b.q0 = x
-                return x
+            # on to where the compensated paths, extended (a line as a line, an arc on its
+            # circle), meet: the meeting point nearest the corner
+            # that lies on a's side beyond qa and on b's before qb (else the G450 circle)
+            near = sorted((x for x in _intersections(self._path(a), self._path(b))
+                           if _dot(_sub(x, qa), ta) >= -ON and _dot(_sub(x, qb), tb) <= ON),
+                          key=lambda x: math.hypot(x[0] - a.p1[0], x[1] - a.p1[1]))
+            if near:
+                b.q0 = near[0]
+                return near[0]
         b.q0 = qb
         b.before.append(self._transition(a, qa, qb, b))
         return qa
+
+    def _link(self, a: Element, q: Point, b: Element) -> canon.Command:
+        """A straight move to q at the corner, as the next block moves (traverse or feed)."""
+        axes = self._axes(b.cmd, q, a.end3)
+        if isinstance(b.cmd, canon.Traverse):
+            return canon.Traverse(b.src, axes=axes)
+        return canon.LinearFeed(b.src, axes=axes, feed=b.cmd.feed)
 
     def _transition(self, a: Element, qa: Point, qb: Point, b: Element) -> canon.Command:
         """The G450 arc of radius r about the corner from qa to qb (a straight traverse when
@@ -281,17 +300,17 @@ class Compensator:
 
     def _path(self, e: Element):
         if e.centre is None:
-            off = self._offset(e.tangent(False))
+            off = self._offset(e.tangent(False), e.r)
             return ("line", _add(e.p0, off), e.tangent(False))
         return ("circle", e.centre, self._offset_radius(e))
 
     def _on(self, e: Element, x: Point, q_corner: Point, end: bool) -> bool:
         """Whether x lies on e's compensated path between its other end and the corner."""
         if end:
-            start = e.q0 if e.q0 is not None else _add(e.p0, self._offset(e.tangent(False)))
+            start = e.q0 if e.q0 is not None else _add(e.p0, self._offset(e.tangent(False), e.r))
             far, near = start, q_corner
         else:
-            far, near = _add(e.p1, self._offset(e.tangent(True))), q_corner
+            far, near = _add(e.p1, self._offset(e.tangent(True), e.r)), q_corner
         if e.centre is None:
             d = (far[0] - near[0], far[1] - near[1])
             length2 = d[0] * d[0] + d[1] * d[1]
@@ -355,6 +374,14 @@ def cmd_program3(machine, cmd: canon.Command, base3) -> tuple[float, float, floa
 
 def _add(p: Point, v: Point) -> Point:
     return (p[0] + v[0], p[1] + v[1])
+
+
+def _sub(p: Point, q: Point) -> Point:
+    return (p[0] - q[0], p[1] - q[1])
+
+
+def _dot(p: Point, q: Point) -> float:
+    return p[0] * q[0] + p[1] * q[1]
 
 
 def _lines(p: Point, d: Point, q: Point, e: Point) -> Point | None:

@@ -212,3 +212,22 @@ def test_a_convex_contour_is_followed_at_exactly_the_tool_radius(tmp_path, seed,
         assert np.abs(d - r).max() < 1e-6
     inside = Polygon(poly).contains(SPoint(_sampled(result, 2, 1)[3]))
     assert inside == (side == "G41")
+
+
+def test_a_d_change_while_compensating_applies_from_the_next_element(tmp_path):
+    got = go(tmp_path, "G1 G41 X0 Y0\nY40\nD2 X40\nY0\nG40 X60 Y-20\n")
+    assert got == [("L", -5, 0), ("L", -5, 40),
+                   ("L", 0, 42),                      # straight from the 5 mm path to the 2 mm one
+                   ("L", 40, 42), ("A", 42, 40, (40, 40), True), ("L", 42, 0), ("L", 60, -20)]
+
+
+def test_g451_meets_an_arc_on_its_compensated_circle(tmp_path):
+    """x = −5 (the line's path) meets the circle about (20, 30) of radius √500 + 5."""
+    got = go(tmp_path, "G451 G1 G41 X0 Y0\nY40\nG2 X40 Y40 I20 J-10\nG40 G1 X60 Y40\n")
+    rc = math.sqrt(500) + 5
+    assert got[1][0] == "L" and got[1][1:] == pytest.approx((-5, 30 + math.sqrt(rc * rc - 625)), abs=1e-9)
+    arc = got[2]
+    assert arc[0] == "A" and arc[3] == pytest.approx((20, 30)) and arc[4] is True
+    n = (2 / math.sqrt(5), 1 / math.sqrt(5))          # the arc's end normal, outward
+    assert arc[1:3] == pytest.approx((40 + 5 * n[0], 40 + 5 * n[1]), abs=1e-9)
+    assert math.hypot(arc[1] - 20, arc[2] - 30) == pytest.approx(rc)
