@@ -64,3 +64,21 @@ def error_of(result: RunResult) -> Finding:
     errs = [f for f in result.findings if f.severity == "error"]
     assert errs
     return errs[-1]
+
+
+#: tool radii for compensation tests: T1 D1 5 mm, T1 D2 2 mm
+RADII = RunOptions(tool_radius=lambda tool, d: {("1", 1): 5.0, ("1", 2): 2.0}.get((tool, d)))
+
+
+def plane_path(result: RunResult) -> list[tuple]:
+    """(kind, x, y[, centre, clockwise]) of every motion, rounded to 1e-9 mm: kind 'L' for a
+    line or traverse, 'A' for an arc."""
+    from vmach.canon import ArcFeed
+
+    out = []
+    for m in moves(result):
+        if isinstance(m, ArcFeed):
+            out.append(("A", round(m.axes["X"], 9), round(m.axes["Y"], 9), m.center, m.clockwise))
+        else:
+            out.append(("L", round(m.axes["X"], 9), round(m.axes["Y"], 9)))
+    return out

@@ -51,13 +51,14 @@ class Slot:
 
 
 def flatten(out: list) -> list:
-    """The command stream with every :class:`Slot` replaced by its commands."""
+    """The command stream with every :class:`Slot` replaced by its commands (slots nest: a
+    held chamfer's slot holds the compensation's)."""
     if not any(isinstance(c, Slot) for c in out):
         return out
     flat: list = []
     for c in out:
         if isinstance(c, Slot):
-            flat.extend(c.commands)
+            flat.extend(flatten(c.commands))
         else:
             flat.append(c)
     return flat
@@ -160,7 +161,7 @@ class Compensator:
         ia, ib = self.plane
         p0, p1 = (start3[ia], start3[ib]), (end3[ia], end3[ib])
         in_plane = centre is not None or math.hypot(p1[0] - p0[0], p1[1] - p0[1]) > ON
-        out = self.m.out
+        out = self.m.sink
         if not in_plane:
             if self.state == "selecting":
                 out.append(cmd)

@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import math
 
+from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
+from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
 from interpreters.sinumerik.frames import Frames, modulo_target, rot_axis, rpy
 from vmach import canon
@@ -119,6 +121,9 @@ class Machine:
         #: (tool, D) -> radius (mm) for tool radius compensation; None: no tool library
         self.tool_radius_of = None
         self.cutcom = Compensator(self)
+        self.corners = Corners(self)
+        #: where motion commands go: ``out``, or the place of a block held for a chamfer
+        self.sink: list = out
 
     @property
     def plane_axes(self) -> tuple[str, str, str]:
@@ -293,7 +298,7 @@ class Machine:
             elif m in (2, 30, 17):
                 end = f"M{m}"
                 if m != 17:
-                    self.cutcom.finish()
+                    self.end_contour()
                 continue
             elif m == 6:
                 continue  # tools change at T on this control (tool change mode "T")
@@ -318,11 +323,20 @@ class Machine:
                 out.append(canon.Dwell(src, revolutions=float(revs)))
         for name, args in v.cycles:
             out.append(canon.CycleCall(src, name=name, args=tuple(args)))
-        if v.axes or (self.motion in ("G2", "G3") and v.interp):
+        corner = None
+        if v.interp and any(k in v.interp for k in CORNER_WORDS):
+            corner = {k: float(v.interp[k][0]) * (INCH if self.inch else 1.0)
+                      for k in CORNER_WORDS if k in v.interp}
+            if "RNDM" in corner:
+                self.corners.modal = max(0.0, corner.pop("RNDM"))
+            if "FRCM" in corner:
+                self.corners.feed_modal = max(0.0, corner.pop("FRCM"))
+        arc_words = v.interp and (corner is None or any(k not in CORNER_WORDS for k in v.interp))
+        if v.axes or (self.motion in ("G2", "G3") and arc_words):
             g9 = block_exact and PATH_MODES[self.path_mode] != "exact"
             if g9:  # G9: exact stop at the end of this block only
                 out.append(canon.PathMode(src, mode="exact"))
-            self.move(v, src, suppress)
+            self.move(v, src, suppress, corner or {})
             if g9:
                 out.append(canon.PathMode(src, mode="continuous"))
         if pause is not None:
@@ -382,7 +396,19 @@ class Machine:
         self.emit_frame(src)
 
     # ------------------------------------------------------------------------------------
-    def move(self, v: Values, src: SourceRef, suppress: bool) -> None:
+    def end_contour(self) -> None:
+        """Program end: a held chamfer block runs to its end, compensation ends."""
+        self.corners.flush(self.send)
+        self.cutcom.finish()
+
+    def send(self, cmd, start3, end3, centre, src: SourceRef) -> None:
+        """A move, after chamfers and roundings: compensated, or written."""
+        if self.cutcom.engaged:
+            self.cutcom.take(cmd, start3, end3, centre, src)
+        else:
+            self.sink.append(cmd)
+
+    def move(self, v: Values, src: SourceRef, suppress: bool, corner: dict | None = None) -> None:
         """Emit the block's motion (v.axes holds (Word, value) in textual order)."""
         new = None
         if not (suppress or self.inch or self.diameter or self.frames.rotated):
@@ -399,20 +425,22 @@ class Machine:
             cmd = canon.Traverse(src, axes=new)
         else:
             cmd, centre = self.arc(v, src, new, suppress)
-        if self.cutcom.engaged:
+        if self.cutcom.engaged or corner or self.corners.holding or self.corners.modal > 0:
             if suppress:
-                raise ProgramError("cutcom", "G53/G153/SUPA while tool radius compensation is active", src)
+                raise ProgramError("cutcom", "G53/G153/SUPA while tool radius compensation, a chamfer "
+                                   "or a rounding is active", src)
             g = self.geometry
             start3 = self.frames.to_program(tuple(self.pos[n] for n in g))
             end3 = self.frames.to_program(tuple(new[n] for n in g))
-            self.cutcom.take(cmd, start3, end3, centre, src)
+            self.corners.take(cmd, start3, end3, centre, src, corner or {}, self.send)
         else:
-            self.out.append(cmd)
+            self.sink.append(cmd)
         self.pos = new
 
     def straight(self, words: list, src: SourceRef) -> bool:
         """Fast path for blocks of G0/G1 axis words only; False when it does not apply."""
-        if self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged:
+        if (self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged
+                or self.corners.holding or self.corners.modal > 0):
             return False
         new = self._plain_targets(words)
         if new is None:

@@ -219,7 +219,7 @@ class Interpreter:
             src = self.src(level, last) if last else SourceRef(program.path, 1)
             if pc >= n and len(self.stack) == 1:
                 self.findings.append(warning("missing_program_end", "the program ends without M30/M2", src))
-                self.machine.cutcom.finish()
+                self.machine.end_contour()
                 self.out.append(canon.ProgramEnd(src, code="EOF"))
             if not self.pop(src):
                 return

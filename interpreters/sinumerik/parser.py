@@ -35,8 +35,10 @@ _BLOCKNO = re.compile(r"^N(\d+)$")
 _SPINDLE_ADDR = re.compile(r"^([SM])(\d+)$")
 _JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
 _MODES = ("AC", "IC", "ACP", "ACN", "DC")
-_INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "turn"}
-_INTERP_UNSUPPORTED = {"I1", "J1", "K1", "AR", "AP", "RP", "RND", "RNDM", "CHF", "CHR", "ANG"}
+_INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "turn",
+           "RND": "corner", "RNDM": "corner", "CHF": "corner", "CHR": "corner", "FRC": "corner",
+           "FRCM": "corner"}
+_INTERP_UNSUPPORTED = {"I1", "J1", "K1", "AR", "AP", "RP", "ANG"}
 _BUILTINS = {"SETMS", "MSG", "WORKPIECE"}
 _SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "aux", "P": "repeat"}
 

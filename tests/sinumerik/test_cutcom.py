@@ -6,22 +6,11 @@ from __future__ import annotations
 import math
 
 import pytest
-from nc import error_of, moves, run
+from nc import RADII, error_of, moves, plane_path, run
 
 from vmach.canon import ArcFeed, LinearFeed, RunOptions
 
-RADII = RunOptions(tool_radius=lambda tool, d: {("1", 1): 5.0, ("1", 2): 2.0}.get((tool, d)))
-
-
-def path(result):
-    """(kind, x, y) of every motion, kind 'L' line or traverse, 'A' arc; with the arc's centre."""
-    out = []
-    for m in moves(result):
-        if isinstance(m, ArcFeed):
-            out.append(("A", round(m.axes["X"], 9), round(m.axes["Y"], 9), m.center, m.clockwise))
-        else:
-            out.append(("L", round(m.axes["X"], 9), round(m.axes["Y"], 9)))
-    return out
+path = plane_path
 
 
 def go(tmp_path, body, options=RADII):

@@ -1,0 +1,162 @@
+"""Chamfers and roundings between contour elements: CHF=, CHR=, RND=, RNDM= (Programming
+Manual Fundamentals, "Chamfer, rounding").
+
+A block with ``RND=ρ`` ends before its end point P, and a tangent arc of radius ρ joins it to
+the next block in the working plane; ``CHF=l`` joins them with a straight chamfer of length l,
+``CHR=l`` with one whose legs along both elements are l; ``RNDM=ρ`` rounds every following
+corner until ``RNDM=0``; ``FRC=`` (this block) or ``FRCM=`` (modal, 0 off) is the insert's
+feed, else the block's. For two straight elements meeting at P with a turn θ the element ends
+and the next begins
+
+    d = ρ·tan(|θ|/2)  (RND),   d = l / (2·cos(|θ|/2))  (CHF),   d = l  (CHR)
+
+from P along each (mm). Both
+elements must be straight feed or traverse moves in the plane (a corner next to an arc:
+``unsupported``); an insert that does not fit on either element is ``corner_insert``.
+
+The block is held until the next motion is known; its place in the command stream is kept by
+a :class:`Slot`, and what it becomes is handed on to tool radius compensation (or written)
+exactly as an unmodified block would be.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from interpreters.sinumerik.cutcom import Slot
+from vmach import canon
+from vmach.errors import ProgramError
+from vmach.source import SourceRef
+
+#: turn (radians) below which two elements are taken as tangent: nothing is inserted
+TANGENT = 1e-9
+WORDS = ("CHF", "CHR", "RND", "RNDM", "FRC", "FRCM")
+
+
+class Corners:
+    """The held block and the modal rounding (RNDM) of one channel."""
+
+    def __init__(self, machine) -> None:
+        self.m = machine
+        self.modal = 0.0                # RNDM radius, mm (0: off)
+        self.feed_modal = 0.0           # FRCM feed (0: the block's)
+        self.held: tuple | None = None  # (slot, cmd, start3, end3, centre, src, kind, value)
+
+    @property
+    def holding(self) -> bool:
+        return self.held is not None
+
+    def take(self, cmd, start3, end3, centre, src: SourceRef, words: dict, send) -> None:
+        """One motion of the program; ``words`` its CHF/CHR/RND/RNDM values (mm, already in
+        the block's units); ``send(cmd, start3, end3, centre, src)`` passes a move on."""
+        kind, value = None, 0.0
+        for k in ("CHF", "CHR", "RND"):
+            if k in words:
+                if kind is not None:
+                    raise ProgramError("syntax", f"{kind}= and {k}= in one block", src)
+                kind, value = k, float(words[k])
+        if kind is None and self.modal > 0:
+            kind, value = "RND", self.modal
+        ia, ib = self.m.cutcom.plane
+        in_plane = centre is not None or math.hypot(end3[ia] - start3[ia], end3[ib] - start3[ib]) > 1e-9
+        if self.held is not None:
+            start3 = self._release(cmd, start3, end3, centre, src, in_plane, send)
+        if kind is None or value <= 0 or not in_plane:
+            send(cmd, start3, end3, centre, src)
+            return
+        if centre is not None:
+            raise ProgramError("unsupported", f"{kind}= after an arc is not simulated (straight "
+                               "elements only)", src)
+        slot = Slot()
+        self.m.sink.append(slot)
+        feed = words.get("FRC") or self.feed_modal or None
+        self.held = (slot, cmd, start3, end3, centre, src, kind, value, feed)
+
+    def flush(self, send) -> None:
+        """No further element (program end): the held block runs to its end point."""
+        if self.held is not None:
+            slot, cmd, start3, end3, centre, src = self.held[:6]
+            self.held = None
+            self._into(slot, send, cmd, start3, end3, centre, src)
+
+    def _release(self, cmd, start3, end3, centre, src, in_plane: bool, send):
+        """Shorten the held block and this one at their corner and send the held block and
+        the insert; returns this block's start (the insert's end, or ``start3``)."""
+        slot, a_cmd, a0, a1, a_centre, a_src, kind, value, insert_feed = self.held
+        self.held = None
+        if not in_plane:
+            if self.modal > 0 and kind == "RND":
+                self._into(slot, send, a_cmd, a0, a1, a_centre, a_src)   # no corner to round
+                return start3
+            raise ProgramError("unsupported", f"{kind}= before a block without motion in the plane "
+                               "is not simulated", src)
+        if centre is not None or not isinstance(cmd, (canon.LinearFeed, canon.Traverse)):
+            raise ProgramError("unsupported", f"{kind}= before an arc is not simulated (straight "
+                               "elements only)", a_src)
+        ia, ib = self.m.cutcom.plane
+        p = (a1[ia], a1[ib])
+        ua, la = _direction((a0[ia], a0[ib]), p)
+        ub, lb = _direction(p, (end3[ia], end3[ib]))
+        turn = math.atan2(ua[0] * ub[1] - ua[1] * ub[0], ua[0] * ub[0] + ua[1] * ub[1])
+        if abs(turn) < TANGENT:
+            self._into(slot, send, a_cmd, a0, a1, a_centre, a_src)
+            return start3
+        half = abs(turn) / 2.0
+        d = {"RND": value * math.tan(half), "CHF": value / (2.0 * math.cos(half)), "CHR": value}[kind]
+        if d > la + 1e-9 or d > lb + 1e-9:
+            raise ProgramError(
+                "corner_insert",
+                f"{kind}={value:g} does not fit: it needs {d:.4f} mm of both elements, they are "
+                f"{la:.4f} and {lb:.4f} mm long", a_src, needs=d, lengths=[la, lb])
+        q0 = _moved(a1, ia, ib, (p[0] - d * ua[0], p[1] - d * ua[1]))
+        q1 = _moved(a1, ia, ib, (p[0] + d * ub[0], p[1] + d * ub[1]))
+        feed = insert_feed or getattr(a_cmd, "feed", None) or self.m.feed
+        first = replace(a_cmd, axes=self._axes(a_cmd.axes, q0))
+        if kind == "RND":
+            side = 1.0 if turn > 0 else -1.0
+            c = (q0[ia] - side * ua[1] * value, q0[ib] + side * ua[0] * value)
+            insert = canon.ArcFeed(a_src, axes=self._axes(a_cmd.axes, q1), plane=self.m.plane_axes,
+                                   center=self._centre(c, a1), clockwise=turn < 0, turns=0, feed=feed)
+            insert_centre = c
+        elif isinstance(a_cmd, canon.Traverse):
+            insert, insert_centre = canon.Traverse(a_src, axes=self._axes(a_cmd.axes, q1)), None
+        else:
+            insert, insert_centre = canon.LinearFeed(a_src, axes=self._axes(a_cmd.axes, q1), feed=feed), None
+        self._into(slot, send, first, a0, q0, None, a_src)
+        self._into(slot, send, insert, q0, q1, insert_centre, a_src)
+        return tuple(q1)
+
+    def _into(self, slot: Slot, send, cmd, start3, end3, centre, src) -> None:
+        """Send a move with the command stream's sink pointed at the held block's place."""
+        sink = self.m.sink
+        self.m.sink = slot.commands
+        try:
+            send(cmd, tuple(start3), tuple(end3), centre, src)
+        finally:
+            self.m.sink = sink
+
+    def _axes(self, axes, q3) -> dict:
+        """``axes`` with the geometry axes at the program point q3 (through the frame)."""
+        m = self.m.frames.to_machine(tuple(q3))
+        out = dict(axes)
+        for i, n in enumerate(self.m.geometry):
+            out[n] = m[i]
+        return out
+
+    def _centre(self, c, base3) -> tuple[float, float]:
+        ia, ib = self.m.cutcom.plane
+        m = self.m.frames.to_machine(tuple(_moved(base3, ia, ib, c)))
+        return (m[ia], m[ib])
+
+
+def _direction(p, q) -> tuple[tuple[float, float], float]:
+    dx, dy = q[0] - p[0], q[1] - p[1]
+    n = math.hypot(dx, dy)
+    return (dx / n, dy / n) if n > 0 else (0.0, 0.0), n
+
+
+def _moved(base3, ia: int, ib: int, q) -> list[float]:
+    out = list(base3)
+    out[ia], out[ib] = q[0], q[1]
+    return out

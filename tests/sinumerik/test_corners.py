@@ -1,0 +1,84 @@
+"""Chamfers and roundings between straight elements (CHF=, CHR=, RND=, RNDM=), alone and with
+tool radius compensation, against the corner geometry worked out by hand."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from nc import RADII, error_of, moves, run
+from nc import plane_path as path
+
+
+def go(tmp_path, body, options=RADII):
+    r = run(tmp_path, "T1 D1\nG17 G90 G0 X0 Y0 Z0\nF500\n" + body + "M30\n", options=options)
+    assert r.completed, [f.render() for f in r.findings]
+    return path(r)[1:]
+
+
+def test_rnd_joins_two_lines_with_a_tangent_arc(tmp_path):
+    got = go(tmp_path, "G1 X40 RND=5\nY40\n")
+    assert got == [("L", 35, 0), ("A", 40, 5, (35, 5), False), ("L", 40, 40)]
+
+
+def test_rnd_on_a_right_turn_runs_clockwise(tmp_path):
+    got = go(tmp_path, "G1 X40 RND=5\nY-40\n")
+    assert got == [("L", 35, 0), ("A", 40, -5, (35, -5), True), ("L", 40, -40)]
+
+
+def test_chf_is_the_chamfer_length_and_chr_its_leg(tmp_path):
+    leg = 4 / (2 * math.cos(math.pi / 4))              # 90° turn: legs l / √2
+    got = go(tmp_path, "G1 X40 CHF=4\nY40 CHR=3\nX0\n")
+    assert got[0][:2] == ("L", pytest.approx(40 - leg)) and got[1] == ("L", 40, pytest.approx(leg))
+    assert got[2] == ("L", 40, 37) and got[3] == ("L", 37, 40) and got[4] == ("L", 0, 40)
+    assert math.hypot(got[1][1] - got[0][1], got[1][2] - got[0][2]) == pytest.approx(4)
+
+
+def test_rnd_at_an_obtuse_corner_uses_the_half_angle(tmp_path):
+    """A 60° turn: the arc starts ρ·tan 30° before the corner."""
+    got = go(tmp_path, f"G1 X40 RND=6\nX{40 + 20 * math.cos(math.pi / 3)} Y{20 * math.sin(math.pi / 3)}\n")
+    d = 6 * math.tan(math.pi / 6)
+    assert got[0] == ("L", pytest.approx(40 - d), 0)
+    end = got[1]
+    assert end[0] == "A" and end[1:3] == pytest.approx((40 + d * 0.5, d * math.sqrt(3) / 2))
+    assert end[3] == pytest.approx((40 - d, 6)) and end[4] is False
+
+
+def test_rndm_rounds_every_corner_until_rndm_0(tmp_path):
+    got = go(tmp_path, "RNDM=2\nG1 X40\nY40\nX0\nRNDM=0\nY0\nX10\n")
+    arcs = [g for g in got if g[0] == "A"]
+    # RNDM=2 was active for X0, so its end is rounded too; Y0's is not
+    assert len(arcs) == 3 and got[-2:] == [("L", 0, 0), ("L", 10, 0)]
+
+
+def test_a_rounding_is_compensated_as_an_arc_of_the_contour(tmp_path):
+    """G42 outside the rounded corner: the tool runs the concentric arc ρ + r."""
+    got = go(tmp_path, "G0 X-20 Y-20\nG1 G42 X0 Y0\nX40 RND=10\nY40\nG40 X60 Y60\n")
+    assert got[1:4] == [("L", 0, -5), ("L", 30, -5), ("A", 45, 10, (30, 10), False)]
+
+
+def test_a_chamfer_longer_than_its_elements_is_an_error(tmp_path):
+    r = run(tmp_path, "G0 X0 Y0\nF100\nG1 X4 RND=10\nY40\nM30\n")
+    f = error_of(r)
+    assert (f.kind, f.line) == ("corner_insert", 3)
+
+
+def test_a_rounding_next_to_an_arc_is_reported_unsupported(tmp_path):
+    r = run(tmp_path, "G0 X0 Y0\nF100\nG1 X40 RND=2\nG3 X40 Y20 I0 J10\nM30\n")
+    f = error_of(r)
+    assert (f.kind, f.line) == ("unsupported", 3)
+
+
+def test_other_commands_keep_their_place_around_a_held_block(tmp_path):
+    r = run(tmp_path, "G0 X0 Y0\nF100\nG1 X40 RND=5\nM8\nY40\nM30\n")
+    kinds = [type(c).__name__ for c in r.commands]
+    i = kinds.index("Coolant")
+    assert kinds[i - 2:i + 2] == ["LinearFeed", "ArcFeed", "Coolant", "LinearFeed"]
+    assert len(moves(r)) == 4
+
+
+def test_frc_and_frcm_give_the_inserts_feed(tmp_path):
+    r = run(tmp_path, "G0 X0 Y0\nF100\nG1 X40 RND=5 FRC=20\nY40 CHF=2\nFRCM=30\nX0 RND=1\nY0\nM30\n")
+    feeds = [m.feed for m in moves(r)[1:]]
+    # X40, its arc (FRC), Y40, its chamfer (the block's feed), X0, its arc (FRCM), Y0
+    assert feeds == [100, 20, 100, 100, 100, 30, 100]
