@@ -10,9 +10,10 @@ and the next begins
 
     d = ρ·tan(|θ|/2)  (RND),   d = l / (2·cos(|θ|/2))  (CHF),   d = l  (CHR)
 
-from P along each (mm). Both
-elements must be straight feed or traverse moves in the plane (a corner next to an arc:
-``unsupported``); an insert that does not fit on either element is ``corner_insert``.
+from P along each (mm). Where an arc takes part, RND's circle has its centre where both
+elements, offset by ρ toward the inside of the turn, meet, and touches each at the foot of
+that centre; CHF/CHR next to an arc are ``unsupported``. An insert that does not fit on the
+elements is ``corner_insert``.
 
 The block is held until the next motion is known; its place in the command stream is kept by
 a :class:`Slot`, and what it becomes is handed on to tool radius compensation (or written)
@@ -24,7 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from interpreters.sinumerik.cutcom import Slot
+from interpreters.sinumerik.cutcom import Element, Slot, angle_along, intersections, sweep
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -65,9 +66,9 @@ class Corners:
         if kind is None or value <= 0 or not in_plane:
             send(cmd, start3, end3, centre, src)
             return
-        if centre is not None:
-            raise ProgramError("unsupported", f"{kind}= after an arc is not simulated (straight "
-                               "elements only)", src)
+        if centre is not None and kind != "RND":
+            raise ProgramError("unsupported", f"{kind}= after an arc is not simulated (chamfers "
+                               "between straight elements only)", src)
         slot = Slot()
         self.m.sink.append(slot)
         feed = words.get("FRC") or self.feed_modal or None
@@ -91,9 +92,12 @@ class Corners:
                 return start3
             raise ProgramError("unsupported", f"{kind}= before a block without motion in the plane "
                                "is not simulated", src)
+        if kind == "RND" and (centre is not None or a_centre is not None):
+            return self._round_arcs(slot, send, (a_cmd, a0, a1, a_centre, a_src), value, insert_feed,
+                                    (cmd, start3, end3, centre, src))
         if centre is not None or not isinstance(cmd, (canon.LinearFeed, canon.Traverse)):
-            raise ProgramError("unsupported", f"{kind}= before an arc is not simulated (straight "
-                               "elements only)", a_src)
+            raise ProgramError("unsupported", f"{kind}= before an arc is not simulated (chamfers "
+                               "between straight elements only)", a_src)
         ia, ib = self.m.cutcom.plane
         p = (a1[ia], a1[ib])
         ua, la = _direction((a0[ia], a0[ib]), p)
@@ -127,6 +131,40 @@ class Corners:
         self._into(slot, send, insert, q0, q1, insert_centre, a_src)
         return tuple(q1)
 
+    def _round_arcs(self, slot: Slot, send, a, rho: float, insert_feed, b):
+        """RND=ρ where an arc takes part: the rounding circle's centre is where both elements,
+        offset by ρ toward the inside of the turn, meet (nearest the corner); it touches each
+        element at the foot of the centre (a line) or on the line through both centres (an
+        arc). Returns b's new start."""
+        a_cmd, a0, a1, a_centre, a_src = a
+        b_cmd, b0, b1, b_centre, _ = b
+        ia, ib = self.m.cutcom.plane
+        ea = _element(a_cmd, a0, a1, a_centre, ia, ib)
+        eb = _element(b_cmd, b0, b1, b_centre, ia, ib)
+        ta, tb = ea.tangent(True), eb.tangent(False)
+        turn = math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
+        if abs(turn) < TANGENT:
+            self._into(slot, send, a_cmd, a0, a1, a_centre, a_src)
+            return b0
+        side = 1.0 if turn > 0 else -1.0
+        corner = ea.p1
+        found = sorted(intersections(_offset_path(ea, side, rho), _offset_path(eb, side, rho)),
+                       key=lambda x: math.hypot(x[0] - corner[0], x[1] - corner[1]))
+        touch = [(c, _foot(ea, c), _foot(eb, c)) for c in found]
+        touch = [t for t in touch if _on(ea, t[1], before=True) and _on(eb, t[2], before=False)]
+        if not touch:
+            raise ProgramError("corner_insert", f"RND={rho:g} does not fit between these elements",
+                               a_src, radius=rho)
+        c, qa, qb = touch[0]
+        q0, q1 = _moved(a1, ia, ib, qa), _moved(a1, ia, ib, qb)
+        first = replace(a_cmd, axes=self._axes(a_cmd.axes, q0))
+        feed = insert_feed or getattr(a_cmd, "feed", None) or self.m.feed
+        insert = canon.ArcFeed(a_src, axes=self._axes(a_cmd.axes, q1), plane=self.m.plane_axes,
+                               center=self._centre(c, a1), clockwise=turn < 0, turns=0, feed=feed)
+        self._into(slot, send, first, a0, q0, a_centre, a_src)
+        self._into(slot, send, insert, q0, q1, c, a_src)
+        return tuple(q1)
+
     def _into(self, slot: Slot, send, cmd, start3, end3, centre, src) -> None:
         """Send a move with the command stream's sink pointed at the held block's place."""
         sink = self.m.sink
@@ -148,6 +186,45 @@ class Corners:
         ia, ib = self.m.cutcom.plane
         m = self.m.frames.to_machine(tuple(_moved(base3, ia, ib, c)))
         return (m[ia], m[ib])
+
+
+def _element(cmd, start3, end3, centre, ia: int, ib: int) -> Element:
+    """A plane element (cutcom's) for corner geometry."""
+    return Element((start3[ia], start3[ib]), (end3[ia], end3[ib]), tuple(end3), cmd, cmd.source, Slot(),
+                   centre, bool(getattr(cmd, "clockwise", False)), int(getattr(cmd, "turns", 0)))
+
+
+def _offset_path(e: Element, side: float, rho: float):
+    """e moved by ρ to its left (side +1) or right (−1): a line or a concentric circle."""
+    if e.centre is None:
+        t = e.tangent(False)
+        return ("line", (e.p0[0] - side * rho * t[1], e.p0[1] + side * rho * t[0]), t)
+    sigma = -1.0 if e.cw else 1.0
+    return ("circle", e.centre, e.radius - side * sigma * rho)
+
+
+def _foot(e: Element, c) -> tuple[float, float]:
+    """The point of e's line or circle nearest c (where a circle about c touches it)."""
+    if e.centre is None:
+        t = e.tangent(False)
+        s = (c[0] - e.p0[0]) * t[0] + (c[1] - e.p0[1]) * t[1]
+        return (e.p0[0] + s * t[0], e.p0[1] + s * t[1])
+    d = (c[0] - e.centre[0], c[1] - e.centre[1])
+    n = math.hypot(*d)
+    return (e.centre[0] + e.radius * d[0] / n, e.centre[1] + e.radius * d[1] / n) if n > 0 else e.p0
+
+
+def _on(e: Element, q, before: bool) -> bool:
+    """Whether q (on e's line or circle) lies on e: between its start and the corner (its end)
+    when ``before``, else between the corner (its start) and its end."""
+    if e.centre is None:
+        d = (e.p1[0] - e.p0[0], e.p1[1] - e.p0[1])
+        length = math.hypot(*d)
+        s = ((q[0] - e.p0[0]) * d[0] + (q[1] - e.p0[1]) * d[1]) / length
+        return -1e-9 <= s <= length + 1e-9
+    full = sweep(e)
+    ang = angle_along(e.centre, e.p0, q, e.cw)
+    return ang <= full + 1e-9 or (not before and ang < 1e-9)
 
 
 def _direction(p, q) -> tuple[tuple[float, float], float]:

@@ -262,7 +262,7 @@ class Compensator:
             # on to where the compensated paths, extended (a line as a line, an arc on its
             # circle), meet: the meeting point nearest the corner
             # that lies on a's side beyond qa and on b's before qb (else the G450 circle)
-            near = sorted((x for x in _intersections(self._path(a), self._path(b))
+            near = sorted((x for x in intersections(self._path(a), self._path(b))
                            if _dot(_sub(x, qa), ta) >= -ON and _dot(_sub(x, qb), tb) <= ON),
                           key=lambda x: math.hypot(x[0] - a.p1[0], x[1] - a.p1[1]))
             if near:
@@ -292,7 +292,7 @@ class Compensator:
     def _meet(self, a: Element, b: Element, qa: Point, qb: Point) -> Point | None:
         """Intersection of a's and b's compensated paths lying on both, nearest the corner."""
         best, best_d = None, math.inf
-        for x in _intersections(self._path(a), self._path(b)):
+        for x in intersections(self._path(a), self._path(b)):
             if self._on(a, x, qa, end=True) and self._on(b, x, qb, end=False):
                 d = math.hypot(x[0] - qa[0], x[1] - qa[1])
                 if d < best_d:
@@ -323,8 +323,8 @@ class Compensator:
         full = math.hypot(e.p1[0] - e.p0[0], e.p1[1] - e.p0[1]) <= ON
         start = far if end else near
         stop = near if end else far
-        limit = _sweep(e) if full else _angle_along(c, start, stop, e.cw) + 2 * math.pi * e.turns
-        return _angle_along(c, start, x, e.cw) <= limit + ON / max(self._offset_radius(e), ON)
+        limit = sweep(e) if full else angle_along(c, start, stop, e.cw) + 2 * math.pi * e.turns
+        return angle_along(c, start, x, e.cw) <= limit + ON / max(self._offset_radius(e), ON)
 
     # -- commands ------------------------------------------------------------------------
     def _write(self, e: Element, end: Point, approach: bool) -> None:
@@ -394,7 +394,7 @@ def _lines(p: Point, d: Point, q: Point, e: Point) -> Point | None:
     return (p[0] + s * d[0], p[1] + s * d[1])
 
 
-def _intersections(f, g) -> list[Point]:
+def intersections(f, g) -> list[Point]:
     """Intersections of two compensated paths given as ("line", point, unit direction) or
     ("circle", centre, radius), as full lines and circles."""
     if f[0] == "line" and g[0] == "line":
@@ -422,7 +422,7 @@ def _intersections(f, g) -> list[Point]:
     return [(mx - h * dy / d, my + h * dx / d), (mx + h * dy / d, my - h * dx / d)]
 
 
-def _sweep(e: Element) -> float:
+def sweep(e: Element) -> float:
     """Angle (radians, > 0) the programmed arc turns through."""
     a0 = math.atan2(e.p0[1] - e.centre[1], e.p0[0] - e.centre[0])
     a1 = math.atan2(e.p1[1] - e.centre[1], e.p1[0] - e.centre[0])
@@ -433,7 +433,7 @@ def _sweep(e: Element) -> float:
     return d + 2 * math.pi * e.turns
 
 
-def _angle_along(c: Point, start: Point, x: Point, cw: bool) -> float:
+def angle_along(c: Point, start: Point, x: Point, cw: bool) -> float:
     """Angle from ``start`` to ``x`` about c in the arc's direction, in [0, 2π)."""
     a0 = math.atan2(start[1] - c[1], start[0] - c[0])
     a1 = math.atan2(x[1] - c[1], x[0] - c[0])

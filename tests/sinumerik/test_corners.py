@@ -63,8 +63,24 @@ def test_a_chamfer_longer_than_its_elements_is_an_error(tmp_path):
     assert (f.kind, f.line) == ("corner_insert", 3)
 
 
-def test_a_rounding_next_to_an_arc_is_reported_unsupported(tmp_path):
-    r = run(tmp_path, "G0 X0 Y0\nF100\nG1 X40 RND=2\nG3 X40 Y20 I0 J10\nM30\n")
+def test_rnd_between_a_line_and_an_arc_touches_both(tmp_path):
+    """Line +x to (40, 0), then a CCW arc about (60, 0) (a right turn): the rounding circle's
+    centre is where y = −5 meets the circle of radius 25 about (60, 0)."""
+    cx = 60 - math.sqrt(600)
+    touch = (60 - 20 * math.sqrt(600) / 25, -4.0)
+    got = go(tmp_path, "G1 X40 RND=5\nG3 X60 Y-20 I20 J0\n")
+    assert got[0] == ("L", pytest.approx(cx), 0)
+    assert got[1][0] == "A" and got[1][1:3] == pytest.approx(touch) and got[1][4] is True
+    assert got[1][3] == pytest.approx((cx, -5))
+    assert got[2] == ("A", 60, -20, (60, 0), False)
+    back = go(tmp_path, "G0 X60 Y-20\nG2 X40 Y0 I0 J20 RND=5\nG1 X0\n")   # the same corner, reversed
+    assert back[1][1:3] == pytest.approx(touch) and back[1][3] == (60, 0)
+    assert back[2][1:3] == pytest.approx((cx, 0)) and back[2][3] == pytest.approx((cx, -5))
+    assert back[2][4] is False and back[3] == ("L", 0, 0)
+
+
+def test_a_chamfer_next_to_an_arc_is_reported_unsupported(tmp_path):
+    r = run(tmp_path, "G0 X0 Y0\nF100\nG1 X40 CHF=2\nG3 X40 Y20 I0 J10\nM30\n")
     f = error_of(r)
     assert (f.kind, f.line) == ("unsupported", 3)
 
