@@ -98,3 +98,57 @@ def test_frc_and_frcm_give_the_inserts_feed(tmp_path):
     feeds = [m.feed for m in moves(r)[1:]]
     # X40, its arc (FRC), Y40, its chamfer (the block's feed), X0, its arc (FRCM), Y0
     assert feeds == [100, 20, 100, 100, 100, 30, 100]
+
+
+def _tangent(start, c):
+    """Unit tangent of motion c at its start (start given) and at its end."""
+    from vmach.canon import ArcFeed
+
+    end = (c.axes["X"], c.axes["Y"])
+    out = []
+    for p in (start, end):
+        if isinstance(c, ArcFeed):
+            u = (p[0] - c.center[0], p[1] - c.center[1])
+            t = (u[1], -u[0]) if c.clockwise else (-u[1], u[0])
+        else:
+            t = (end[0] - start[0], end[1] - start[1])
+        n = math.hypot(*t)
+        out.append((t[0] / n, t[1] / n))
+    return out
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_rndm_leaves_no_corner_in_a_random_contour_of_lines_and_arcs(tmp_path, seed):
+    """Every junction of a contour rounded with RNDM is tangent, and every insert has the
+    programmed radius (random lines and arcs; a contour whose elements are too short for the
+    rounding is corner_insert and skipped)."""
+    import random
+
+    from vmach.canon import ArcFeed
+
+    rng = random.Random(seed)
+    lines, x, y = ["G17 G90 G0 X0 Y0 Z0", "F100", "RNDM=1"], 0.0, 0.0
+    for _ in range(rng.randint(2, 8)):
+        if rng.random() < 0.5:
+            x, y = rng.uniform(-50, 50), rng.uniform(-50, 50)
+            lines.append(f"G1 X{x:.4f} Y{y:.4f}")
+        else:
+            i, j = rng.uniform(-30, 30), rng.uniform(-30, 30)
+            a = math.atan2(-j, -i) + rng.uniform(-3, 3)
+            x, y = x + i + math.hypot(i, j) * math.cos(a), y + j + math.hypot(i, j) * math.sin(a)
+            lines.append(f"{rng.choice(['G2', 'G3'])} X{x:.6f} Y{y:.6f} I{i:.6f} J{j:.6f}")
+    r = run(tmp_path, "\n".join(lines) + "\nM30\n")
+    if not r.completed:                 # an element too short for the rounding
+        assert error_of(r).kind == "corner_insert"
+        return
+    ms = moves(r)
+    prev, before = (ms[0].axes["X"], ms[0].axes["Y"]), None
+    for c in ms[1:]:
+        t0, t1 = _tangent(prev, c)
+        if before is not None:
+            cross, dot = before[0] * t0[1] - before[1] * t0[0], before[0] * t0[0] + before[1] * t0[1]
+            assert abs(cross) < 1e-6 and dot > 0
+        before, prev = t1, (c.axes["X"], c.axes["Y"])
+    inserts = [c for c in ms if isinstance(c, ArcFeed)
+               and abs(math.hypot(c.axes["X"] - c.center[0], c.axes["Y"] - c.center[1]) - 1.0) < 1e-9]
+    assert len(inserts) >= 1
