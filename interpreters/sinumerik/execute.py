@@ -20,6 +20,8 @@ import math
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
+from interpreters.sinumerik.drilling import CYCLES as DRILLING
+from interpreters.sinumerik.drilling import drill
 from interpreters.sinumerik.frames import Frames, modulo_target, rot_axis, rpy
 from vmach import canon
 from vmach.canon import AxisSpec, ControlSpec
@@ -122,6 +124,8 @@ class Machine:
         self.tool_radius_of = None
         self.cutcom = Compensator(self)
         self.corners = Corners(self)
+        self.mcall: tuple | None = None   # (cycle, args) called after every positioning block
+        self.mcall_new = False            # set in the MCALL block itself (no call there)
         #: where motion commands go: ``out``, or the place of a block held for a chamfer
         self.sink: list = out
 
@@ -322,7 +326,13 @@ class Machine:
                     raise ProgramError("syntax", "G4 needs F (seconds) or S (revolutions)", src)
                 out.append(canon.Dwell(src, revolutions=float(revs)))
         for name, args in v.cycles:
-            out.append(canon.CycleCall(src, name=name, args=tuple(args)))
+            if name in DRILLING:
+                drill(self, name, args, src)
+            elif name.startswith("MCALL"):
+                self.mcall = (name[6:], args) if name != "MCALL" else None
+                self.mcall_new = True
+            else:
+                out.append(canon.CycleCall(src, name=name, args=tuple(args)))
         corner = None
         if v.interp and any(k in v.interp for k in CORNER_WORDS):
             corner = {k: float(v.interp[k][0]) * (INCH if self.inch else 1.0)
@@ -339,6 +349,7 @@ class Machine:
             self.move(v, src, suppress, corner or {})
             if g9:
                 out.append(canon.PathMode(src, mode="continuous"))
+        self.mcall_new = False
         if pause is not None:
             out.append(canon.Pause(src, optional=pause == 1))
         return end
@@ -436,11 +447,13 @@ class Machine:
         else:
             self.sink.append(cmd)
         self.pos = new
+        if self.mcall is not None and not self.mcall_new:
+            drill(self, self.mcall[0], self.mcall[1], src)   # MCALL: after each positioning block
 
     def straight(self, words: list, src: SourceRef) -> bool:
         """Fast path for blocks of G0/G1 axis words only; False when it does not apply."""
         if (self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged
-                or self.corners.holding or self.corners.modal > 0):
+                or self.corners.holding or self.corners.modal > 0 or self.mcall is not None):
             return False
         new = self._plain_targets(words)
         if new is None:

@@ -11,6 +11,7 @@ import math
 import re
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.expr import MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
 from interpreters.sinumerik.language import (
     ACCEPTED_WORDS,
@@ -457,6 +458,19 @@ class BlockParser:
             return t.text, node
         return None, self.expr()
 
+    def modal_call(self, t: Token) -> b.Call:
+        """``MCALL CYCLE81(...)`` (a drilling cycle called after every following positioning
+        block) or ``MCALL`` alone (off): a cycle call named ``MCALL`` / ``MCALL CYCLE81``."""
+        if self.tok.kind == END:
+            return b.Call(t.col, "MCALL", (), cycle=True)
+        target = self.tok
+        if target.kind != IDENT or not self.is_op("(", 1) or target.text not in DRILLING:
+            self.fail("unsupported", "MCALL is simulated for the drilling cycles "
+                      f"({', '.join(sorted(DRILLING))}) only", target.col)
+        self.pos += 1
+        call = self.call_with_args(target)
+        return b.Call(t.col, f"MCALL {call.name}", call.args, cycle=True)
+
     def call_with_args(self, t: Token) -> b.Item:
         name = t.text
         if name in UNSUPPORTED_WORDS:
@@ -480,7 +494,7 @@ class BlockParser:
             if name == "SETMS" and len(args) > 1:
                 self.fail("syntax", "SETMS takes at most one spindle number", t.col)
             return b.Builtin(t.col, name, tuple(args))
-        return b.Call(t.col, name, tuple(args), cycle=name in self.g.cycles)
+        return b.Call(t.col, name, tuple(args), cycle=name in self.g.cycles or name in DRILLING)
 
     def plain(self, t: Token, block: b.Block) -> b.Item | None:
         """A word without '=': G code, keyword, address+number, or a call by name."""
@@ -509,6 +523,8 @@ class BlockParser:
             return b.GCode(t.col, code)
         if name in ACCEPTED_WORDS:
             return b.Keyword(t.col, name)
+        if name == "MCALL":
+            return self.modal_call(t)
         if name in UNSUPPORTED_WORDS:
             self.fail("unsupported", f"{name} is not simulated", t.col)
         if _BLOCKNO.match(name):

@@ -1,0 +1,137 @@
+"""Standard drilling cycles CYCLE81, CYCLE82, CYCLE83 with their classic parameter lists
+(SINUMERIK 840D sl "Cycles" manual), called once or modally with ``MCALL``.
+
+The cycle drills at the current position of the working plane, along its normal (Z for G17,
+Y for G18, X for G19; program coordinates, mm, the drill toward −normal):
+
+- CYCLE81(RTP, RFP, SDIS, DP, DPR): G0 to RFP + SDIS, G1 at the programmed F to the depth,
+  G0 to RTP. The depth is RFP − DPR when DPR is given (it wins over DP), else DP.
+- CYCLE82(RTP, RFP, SDIS, DP, DPR, DTB): the same with a dwell of DTB seconds at the depth.
+- CYCLE83(RTP, RFP, SDIS, DP, DPR, FDEP, FDPR, DAM, DTB, DTS, FRF, VARI): deep-hole drilling
+  in strokes. The first ends at RFP − FDPR (or FDEP) at F·FRF; each following stroke is the
+  last one less DAM while that stays above DAM, then DAM. VARI=0 (chip breaking) backs off
+  1 mm at rapid after each stroke; VARI=1 (swarf removal) retracts at rapid to RFP + SDIS,
+  dwells DTS seconds and returns at rapid to the last depth less an anticipation distance
+  (0.6 mm up to 30 mm depth, else depth/50, at most 7 mm). DTB dwells at the final depth.
+
+Parameters left out (``CYCLE81(10,0,2,,5)``) are 0. A depth that is not below RFP, or a
+cycle without DP and DPR, is a ``cycle_parameter`` error at the calling block.
+"""
+
+from __future__ import annotations
+
+from vmach import canon
+from vmach.errors import ProgramError
+from vmach.source import SourceRef
+
+CYCLES = {
+    "CYCLE81": ("RTP", "RFP", "SDIS", "DP", "DPR"),
+    "CYCLE82": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
+    "CYCLE83": ("RTP", "RFP", "SDIS", "DP", "DPR", "FDEP", "FDPR", "DAM", "DTB", "DTS", "FRF", "VARI"),
+}
+#: most strokes one CYCLE83 may make (a DAM of 1e-9 must be an error, not a hang)
+MAX_STROKES = 100_000
+
+
+def parameters(name: str, args, src: SourceRef) -> dict[str, float]:
+    """The cycle's parameters by name (left out: 0)."""
+    names = CYCLES[name]
+    if len(args) > len(names):
+        raise ProgramError("call_arguments", f"{name} takes {len(names)} parameters, got {len(args)}", src)
+    out = {}
+    for i, n in enumerate(names):
+        v = args[i] if i < len(args) else None
+        if v is not None and (isinstance(v, str) or isinstance(v, bool)):
+            raise ProgramError("type_error", f"{name}: {n} needs a number", src)
+        out[n] = float(v) if v is not None else 0.0
+    return out
+
+
+def drill(machine, name: str, args, src: SourceRef) -> None:
+    """Emit the cycle's moves and dwells from the current position."""
+    p = parameters(name, args, src)
+    if machine.cutcom.engaged:
+        raise ProgramError("cutcom", f"{name} while tool radius compensation is active (G40 first)", src)
+    scale = 25.4 if machine.inch else 1.0
+    rtp, rfp, sdis = p["RTP"] * scale, p["RFP"] * scale, abs(p["SDIS"]) * scale
+    given = [a is not None for a in args] + [False] * len(CYCLES[name])
+    if given[4] and p["DPR"] != 0:
+        depth = rfp - abs(p["DPR"]) * scale
+    elif given[3]:
+        depth = p["DP"] * scale
+    else:
+        raise ProgramError("cycle_parameter", f"{name}: give the depth, DP or DPR", src)
+    if depth >= rfp:
+        raise ProgramError("cycle_parameter", f"{name}: the depth {depth:g} is not below the reference "
+                           f"plane RFP {rfp:g}", src, depth=depth, rfp=rfp)
+    if machine.feed <= 0:
+        raise ProgramError("zero_feed", f"{name}: drilling with F0 (no feed programmed)", src)
+    go = _Mover(machine, src)
+    go.rapid(rfp + sdis)
+    if name == "CYCLE83":
+        _strokes(go, p, rfp, sdis, depth, scale, machine.feed, name, src)
+    else:
+        go.feed(depth, machine.feed)
+    if p.get("DTB", 0.0) > 0:
+        machine.sink.append(canon.Dwell(src, seconds=p["DTB"]))
+    go.rapid(rtp)
+
+
+def _strokes(go, p, rfp, sdis, depth, scale, feed, name, src) -> None:
+    """CYCLE83's strokes down to ``depth``."""
+    if p["FDPR"]:
+        first = rfp - abs(p["FDPR"]) * scale
+    elif p["FDEP"]:
+        first = p["FDEP"] * scale
+    else:
+        first = depth
+    inc = max(rfp - first, 0.0)
+    if inc <= 0:
+        raise ProgramError("cycle_parameter", f"{name}: the first depth is not below RFP", src)
+    dam = abs(p["DAM"]) * scale
+    frf = p["FRF"] if 0 < p["FRF"] <= 1 else 1.0
+    total = rfp - depth
+    lead = 0.6 if total <= 30 else min(total / 50.0, 7.0)
+    z = rfp
+    for stroke in range(MAX_STROKES):
+        target = max(z - inc, depth)
+        go.feed(target, feed * (frf if stroke == 0 else 1.0))
+        z = target
+        if z <= depth:
+            return
+        if p["VARI"] == 1:
+            go.rapid(rfp + sdis)
+            if p["DTS"] > 0:
+                go.machine.sink.append(canon.Dwell(src, seconds=p["DTS"]))
+            go.rapid(min(z + lead, rfp + sdis))
+        else:
+            go.rapid(z + 1.0)
+        if dam > 0:
+            inc = inc - dam if inc - dam > dam else dam
+    raise ProgramError("cycle_parameter", f"{name}: more than {MAX_STROKES} strokes", src)
+
+
+class _Mover:
+    """Moves along the plane's normal in program coordinates, written as canonical commands."""
+
+    def __init__(self, machine, src: SourceRef) -> None:
+        self.machine, self.src = machine, src
+        g = machine.geometry
+        self.axis = g.index(machine.plane_axes[2])
+
+    def _to(self, value: float) -> dict:
+        m = self.machine
+        g = m.geometry
+        p = list(m.frames.to_program(tuple(m.pos[n] for n in g)))
+        p[self.axis] = value
+        new = dict(m.pos)
+        for n, v in zip(g, m.frames.to_machine(tuple(p)), strict=True):
+            new[n] = v
+        m.pos = new
+        return dict(new)
+
+    def rapid(self, value: float) -> None:
+        self.machine.sink.append(canon.Traverse(self.src, axes=self._to(value)))
+
+    def feed(self, value: float, feed: float) -> None:
+        self.machine.sink.append(canon.LinearFeed(self.src, axes=self._to(value), feed=feed))
