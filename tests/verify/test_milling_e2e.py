@@ -1,0 +1,100 @@
+"""Sinumerik milling words through the whole pipeline (verify, stock, export) on the
+table-table mill with B = C = 0: a 40 × 40 mm boss milled with G41 and an Ø10 end mill has its
+walls where the drawing puts them (without G41 they lie 5 mm inside); MCALL CYCLE81 drills
+its holes where the program puts them."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import trimesh
+
+from vmach.cli import main
+
+TOOLS = """
+[[tool]]
+name = "EM10"
+type = "flat"
+diameter = 10.0
+cutting_length = 20.0
+shank = { diameter = 10.0, length = 30.0 }
+holder = { diameter = 30.0, length = 40.0 }
+[tool.d.1]
+length = 0.0
+"""
+
+BOSS = """T="EM10" D1
+G17 G90 G0 X-30 Y-30 Z5
+S3000 M3
+G1 Z-5 F500
+{comp} X0 Y20
+Y40
+X40
+Y0
+X0
+Y20
+G40 X-30 Y-30
+G0 Z5
+M30
+"""
+
+
+@pytest.mark.parametrize("comp, wall", [("G41", 0.0), ("", 5.0)])
+def test_a_g41_contour_mills_the_boss_to_the_drawing(tmp_path, comp, wall):
+    (tmp_path / "tools.toml").write_text(TOOLS)
+    prog = tmp_path / "BOSS.MPF"
+    prog.write_text(BOSS.format(comp=comp or "G1"))
+    part = tmp_path / "part.stl"
+    code = main(["verify", str(prog), "--dialect", "sinumerik", "--machine", "s5d",
+                 "--tools", str(tmp_path / "tools.toml"), "--stock",
+                 "box:xmin=-20,xmax=60,ymin=-20,ymax=60,zmin=-20,zmax=0",
+                 "--export", str(part), "--out", str(tmp_path / "o"), "--no-images", "--quiet"])
+    assert code == 0
+    section = trimesh.load(part).section(plane_origin=[0, 0, -2.5], plane_normal=[0, 0, 1])
+    boss = min(section.discrete, key=lambda loop: np.ptp(loop[:, 0]))[:, :2]
+    lo, hi = wall, 40.0 - wall
+    # mid-side the walls are exact (the side sweeps them across its travel); elsewhere within
+    # the tool polygon's 0.01 mm
+    for y in (10.0, 30.0):
+        xs = boss[np.abs(boss[:, 1] - y) < 5.0, 0]
+        on = xs[np.abs(xs - lo) < 0.02]
+        assert on.size and np.abs(on - lo).max() < 1e-6
+    assert boss.min(0) == pytest.approx([lo, lo], abs=0.01)
+    assert boss.max(0) == pytest.approx([hi, hi], abs=0.01)
+
+
+def test_mcall_cycle81_drills_a_hole_at_each_position(tmp_path):
+    """MCALL CYCLE81 after two positioning blocks: the exported part has two Ø8 holes where
+    the program put them (none at the start position), their 118° points ending at DP = −10:
+    0.5 mm above it the hole is the cone's 0.5·tan 59° wide."""
+    (tmp_path / "tools.toml").write_text(TOOLS + """
+[[tool]]
+name = "DR8"
+type = "drill"
+diameter = 8.0
+point_angle = 118.0
+cutting_length = 30.0
+shank = { diameter = 8.0, length = 20.0 }
+holder = { diameter = 30.0, length = 40.0 }
+""")
+    prog = tmp_path / "HOLES.MPF"
+    prog.write_text('T="DR8" D1\nG17 G90 G0 X0 Y0 Z20\nS2000 M3 F200\n'
+                    "MCALL CYCLE81(10, 0, 2, -10)\nX10 Y10\nX30\nMCALL\nG0 Z50\nM30\n")
+    part = tmp_path / "part.stl"
+    assert main(["verify", str(prog), "--dialect", "sinumerik", "--machine", "s5d",
+                 "--tools", str(tmp_path / "tools.toml"), "--stock",
+                 "box:xmin=-5,xmax=45,ymin=-5,ymax=25,zmin=-20,zmax=0",
+                 "--export", str(part), "--out", str(tmp_path / "o"), "--no-images", "--quiet"]) == 0
+    mesh = trimesh.load(part)
+    for z, radius, tol in ((-5.0, 4.0, 0.011), (-9.5, 0.5 * math.tan(math.radians(59)), 0.011)):
+        section = mesh.section(plane_origin=[0, 0, z], plane_normal=[0, 0, 1])
+        holes = sorted((loop[:, :2] for loop in section.discrete if np.ptp(loop[:, 0]) < 10),
+                       key=lambda loop: loop[:, 0].mean())
+        assert len(holes) == 2
+        for loop, centre in zip(holes, [(10, 10), (30, 10)], strict=True):
+            r = np.hypot(loop[:, 0] - centre[0], loop[:, 1] - centre[1])
+            assert r.min() > radius - tol and r.max() < radius + tol
+    below = mesh.section(plane_origin=[0, 0, -10.05], plane_normal=[0, 0, 1])
+    assert all(np.ptp(loop[:, 0]) > 10 for loop in below.discrete)   # the point ends at −10
