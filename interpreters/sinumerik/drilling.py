@@ -14,11 +14,23 @@ Y for G18, X for G19; program coordinates, mm, the drill toward −normal):
   dwells DTS seconds and returns at rapid to the last depth less an anticipation distance
   (0.6 mm up to 30 mm depth, else depth/50, at most 7 mm). DTB dwells at the final depth.
 
+Hole patterns position the tool (rapid, in the plane, at the current height) at each hole and
+run the modal drilling cycle (``MCALL``) there:
+
+- HOLES1(SPCA, SPCO, STA1, FDIS, DBH, NUM): a row from the reference point (SPCA, SPCO) at
+  STA1 degrees to the plane's first axis, the first hole FDIS from it, then every DBH; from the
+  row's end nearer the current position.
+- HOLES2(CPA, CPO, RAD, STA1, INDA, NUM): a circle about (CPA, CPO) of radius RAD, the first
+  hole at STA1 degrees, then every INDA degrees (0: 360/NUM).
+
 Parameters left out (``CYCLE81(10,0,2,,5)``) are 0. A depth that is not below RFP, or a
-cycle without DP and DPR, is a ``cycle_parameter`` error at the calling block.
+cycle without DP and DPR, a pattern of no holes or more than MAX_HOLES, is a
+``cycle_parameter`` error at the calling block.
 """
 
 from __future__ import annotations
+
+import math
 
 from vmach import canon
 from vmach.errors import ProgramError
@@ -29,13 +41,19 @@ CYCLES = {
     "CYCLE82": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
     "CYCLE83": ("RTP", "RFP", "SDIS", "DP", "DPR", "FDEP", "FDPR", "DAM", "DTB", "DTS", "FRF", "VARI"),
 }
+PATTERNS = {
+    "HOLES1": ("SPCA", "SPCO", "STA1", "FDIS", "DBH", "NUM"),
+    "HOLES2": ("CPA", "CPO", "RAD", "STA1", "INDA", "NUM"),
+}
+#: most holes one pattern may have
+MAX_HOLES = 100_000
 #: most strokes one CYCLE83 may make (a DAM of 1e-9 must be an error, not a hang)
 MAX_STROKES = 100_000
 
 
 def parameters(name: str, args, src: SourceRef) -> dict[str, float]:
     """The cycle's parameters by name (left out: 0)."""
-    names = CYCLES[name]
+    names = CYCLES.get(name) or PATTERNS[name]
     if len(args) > len(names):
         raise ProgramError("call_arguments", f"{name} takes {len(names)} parameters, got {len(args)}", src)
     out = {}
@@ -111,6 +129,35 @@ def _strokes(go, p, rfp, sdis, depth, scale, feed, name, src) -> None:
     raise ProgramError("cycle_parameter", f"{name}: more than {MAX_STROKES} strokes", src)
 
 
+def pattern(machine, name: str, args, src: SourceRef) -> None:
+    """Position at each hole of a HOLES1/HOLES2 pattern, drilling with the modal cycle."""
+    p = parameters(name, args, src)
+    n = p["NUM"]
+    if n != int(n) or not 1 <= n <= MAX_HOLES:
+        raise ProgramError("cycle_parameter", f"{name}: NUM must be a whole number of holes, 1 to "
+                           f"{MAX_HOLES}", src, num=n)
+    n = int(n)
+    scale = 25.4 if machine.inch else 1.0
+    if name == "HOLES1":
+        a = math.radians(p["STA1"])
+        d = (math.cos(a), math.sin(a))
+        along = [p["FDIS"] + k * p["DBH"] for k in range(n)]
+        holes = [((p["SPCA"] + s * d[0]) * scale, (p["SPCO"] + s * d[1]) * scale) for s in along]
+        here = _Mover(machine, src).plane_point()
+        if math.dist(here, holes[-1]) < math.dist(here, holes[0]):
+            holes.reverse()
+    else:
+        step = p["INDA"] if p["INDA"] else 360.0 / n
+        angles = [math.radians(p["STA1"] + k * step) for k in range(n)]
+        holes = [((p["CPA"] + p["RAD"] * math.cos(t)) * scale, (p["CPO"] + p["RAD"] * math.sin(t)) * scale)
+                 for t in angles]
+    go = _Mover(machine, src)
+    for hole in holes:
+        go.rapid_plane(hole)
+        if machine.mcall is not None:
+            drill(machine, machine.mcall[0], machine.mcall[1], src)
+
+
 class _Mover:
     """Moves along the plane's normal in program coordinates, written as canonical commands."""
 
@@ -129,6 +176,25 @@ class _Mover:
             new[n] = v
         m.pos = new
         return dict(new)
+
+    def plane_point(self) -> tuple[float, float]:
+        m = self.machine
+        g = m.geometry
+        p = m.frames.to_program(tuple(m.pos[n] for n in g))
+        a, b = g.index(m.plane_axes[0]), g.index(m.plane_axes[1])
+        return (p[a], p[b])
+
+    def rapid_plane(self, q: tuple[float, float]) -> None:
+        """Rapid in the plane to q (program coordinates), the normal axis kept."""
+        m = self.machine
+        g = m.geometry
+        p = list(m.frames.to_program(tuple(m.pos[n] for n in g)))
+        p[g.index(m.plane_axes[0])], p[g.index(m.plane_axes[1])] = q
+        new = dict(m.pos)
+        for n, v in zip(g, m.frames.to_machine(tuple(p)), strict=True):
+            new[n] = v
+        m.pos = new
+        m.sink.append(canon.Traverse(self.src, axes=dict(new)))
 
     def rapid(self, value: float) -> None:
         self.machine.sink.append(canon.Traverse(self.src, axes=self._to(value)))

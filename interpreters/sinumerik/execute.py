@@ -21,7 +21,7 @@ from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
-from interpreters.sinumerik.drilling import drill
+from interpreters.sinumerik.drilling import PATTERNS, drill, pattern
 from interpreters.sinumerik.frames import Frames, modulo_target, rot_axis, rpy
 from vmach import canon
 from vmach.canon import AxisSpec, ControlSpec
@@ -328,6 +328,8 @@ class Machine:
         for name, args in v.cycles:
             if name in DRILLING:
                 drill(self, name, args, src)
+            elif name in PATTERNS:
+                pattern(self, name, args, src)
             elif name.startswith("MCALL"):
                 self.mcall = (name[6:], args) if name != "MCALL" else None
                 self.mcall_new = True

@@ -12,6 +12,7 @@ import re
 
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
+from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
 from interpreters.sinumerik.language import (
     ACCEPTED_WORDS,
@@ -494,7 +495,8 @@ class BlockParser:
             if name == "SETMS" and len(args) > 1:
                 self.fail("syntax", "SETMS takes at most one spindle number", t.col)
             return b.Builtin(t.col, name, tuple(args))
-        return b.Call(t.col, name, tuple(args), cycle=name in self.g.cycles or name in DRILLING)
+        standard = name in DRILLING or name in PATTERNS
+        return b.Call(t.col, name, tuple(args), cycle=name in self.g.cycles or standard)
 
     def plain(self, t: Token, block: b.Block) -> b.Item | None:
         """A word without '=': G code, keyword, address+number, or a call by name."""

@@ -81,3 +81,27 @@ def test_mcall_of_anything_but_a_drilling_cycle_is_unsupported(tmp_path):
     found = check(tmp_path, "MCALL L10\nX1\nM30\n")
     assert [(f.kind, f.line) for f in found] == [("unsupported", 1)]
     assert check(tmp_path, "MCALL CYCLE81(10, 0, 2, -5)\nX1\nMCALL\nM30\n") == []
+
+
+def test_holes2_drills_a_bolt_circle_with_the_modal_cycle(tmp_path):
+    import math
+
+    r = ok(tmp_path, HEAD + "MCALL CYCLE81(10, 0, 2, -5)\nHOLES2(20, 30, 15, 90, , 4)\nMCALL\nM30\n")
+    feeds = [m for m in moves(r) if isinstance(m, LinearFeed)]
+    got = [(round(m.axes["X"], 9), round(m.axes["Y"], 9)) for m in feeds]
+    want = [(round(20 + 15 * math.cos(math.radians(a)), 9), round(30 + 15 * math.sin(math.radians(a)), 9))
+            for a in (90, 180, 270, 360)]
+    assert got == want and all(m.axes["Z"] == -5 for m in feeds)
+
+
+def test_holes1_drills_a_row_from_its_nearer_end(tmp_path):
+    r = ok(tmp_path, "G17 G90 G0 X100 Y0 Z50\nF120\nMCALL CYCLE82(10, 0, 2, -5, , 1)\n"
+           "HOLES1(0, 0, 0, 10, 20, 3)\nMCALL\nM30\n")
+    xs = [m.axes["X"] for m in moves(r) if isinstance(m, LinearFeed)]
+    assert xs == [50, 30, 10]            # X100 is nearer the row's last hole
+    assert len([c for c in r.commands if isinstance(c, Dwell)]) == 3
+
+
+def test_a_pattern_of_no_holes_is_an_error(tmp_path):
+    f = error_of(run(tmp_path, HEAD + "HOLES2(0, 0, 10, 0, 0, 0)\nM30\n"))
+    assert (f.kind, f.line) == ("cycle_parameter", 3)
