@@ -314,7 +314,8 @@ class SetFrame(Command):
     """The active coordinate frame changed (informational; targets are already resolved).
 
     origin : program zero in machine values, per axis.
-    rotation : (9,) float — row-major 3x3 rotation of the geometry axes.
+    rotation : (9,) float — row-major 3x3 linear part for the geometry axes (a rotation, or with
+        Sinumerik's SCALE / MIRROR a scaled or mirrored one).
     """
 
     origin: Mapping[str, float] = field(default_factory=dict)

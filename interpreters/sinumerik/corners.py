@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from interpreters.sinumerik.cutcom import Element, Slot, angle_along, intersections, sweep
+from interpreters.sinumerik.cutcom import Element, Slot, angle_along, cw_of, intersections, sweep
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -121,7 +121,8 @@ class Corners:
             side = 1.0 if turn > 0 else -1.0
             c = (q0[ia] - side * ua[1] * value, q0[ib] + side * ua[0] * value)
             insert = canon.ArcFeed(a_src, axes=self._axes(a_cmd.axes, q1), plane=self.m.plane_axes,
-                                   center=self._centre(c, a1), clockwise=turn < 0, turns=0, feed=feed)
+                                   center=self._centre(c, a1), clockwise=self.m.machine_cw(turn < 0), turns=0,
+                                   feed=feed)
             insert_centre = c
         elif isinstance(a_cmd, canon.Traverse):
             insert, insert_centre = canon.Traverse(a_src, axes=self._axes(a_cmd.axes, q1)), None
@@ -139,8 +140,8 @@ class Corners:
         a_cmd, a0, a1, a_centre, a_src = a
         b_cmd, b0, b1, b_centre, _ = b
         ia, ib = self.m.cutcom.plane
-        ea = _element(a_cmd, a0, a1, a_centre, ia, ib)
-        eb = _element(b_cmd, b0, b1, b_centre, ia, ib)
+        ea = _element(self.m, a_cmd, a0, a1, a_centre, ia, ib)
+        eb = _element(self.m, b_cmd, b0, b1, b_centre, ia, ib)
         ta, tb = ea.tangent(True), eb.tangent(False)
         turn = math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta[0] * tb[0] + ta[1] * tb[1])
         if abs(turn) < TANGENT:
@@ -160,7 +161,8 @@ class Corners:
         first = replace(a_cmd, axes=self._axes(a_cmd.axes, q0))
         feed = insert_feed or getattr(a_cmd, "feed", None) or self.m.feed
         insert = canon.ArcFeed(a_src, axes=self._axes(a_cmd.axes, q1), plane=self.m.plane_axes,
-                               center=self._centre(c, a1), clockwise=turn < 0, turns=0, feed=feed)
+                               center=self._centre(c, a1), clockwise=self.m.machine_cw(turn < 0), turns=0,
+                               feed=feed)
         self._into(slot, send, first, a0, q0, a_centre, a_src)
         self._into(slot, send, insert, q0, q1, c, a_src)
         return tuple(q1)
@@ -188,10 +190,10 @@ class Corners:
         return (m[ia], m[ib])
 
 
-def _element(cmd, start3, end3, centre, ia: int, ib: int) -> Element:
+def _element(machine, cmd, start3, end3, centre, ia: int, ib: int) -> Element:
     """A plane element (cutcom's) for corner geometry."""
     return Element((start3[ia], start3[ib]), (end3[ia], end3[ib]), tuple(end3), cmd, cmd.source, Slot(),
-                   centre, bool(getattr(cmd, "clockwise", False)), int(getattr(cmd, "turns", 0)))
+                   centre, machine.machine_cw(cw_of(cmd)), int(getattr(cmd, "turns", 0)))
 
 
 def _offset_path(e: Element, side: float, rho: float):

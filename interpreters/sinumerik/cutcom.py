@@ -179,8 +179,8 @@ class Compensator:
             return
         slot = Slot()
         out.append(slot)
-        elem = Element(p0, p1, tuple(end3), cmd, src, slot, centre,
-                       bool(getattr(cmd, "clockwise", False)), int(getattr(cmd, "turns", 0)), r=self.radius)
+        elem = Element(p0, p1, tuple(end3), cmd, src, slot, centre, self.m.machine_cw(cw_of(cmd)),
+                       int(getattr(cmd, "turns", 0)), r=self.radius)
         if centre is not None and self._offset_radius(elem) <= ON:
             raise ProgramError(
                 "cutcom_radius",
@@ -287,7 +287,7 @@ class Compensator:
             return canon.Traverse(b.src, axes=axes)
         centre = self._machine_plane(a.p1, a.end3)
         return canon.ArcFeed(b.src, axes=axes, plane=self.m.plane_axes, center=centre,
-                             clockwise=self.side > 0, turns=0, feed=b.cmd.feed)
+                             clockwise=self.m.machine_cw(self.side > 0), turns=0, feed=b.cmd.feed)
 
     def _meet(self, a: Element, b: Element, qa: Point, qb: Point) -> Point | None:
         """Intersection of a's and b's compensated paths lying on both, nearest the corner."""
@@ -364,6 +364,12 @@ class Compensator:
         g = self.m.geometry
         a, b = self.m.plane_axes[:2]
         return g.index(a), g.index(b)
+
+
+def cw_of(cmd: canon.Command) -> bool:
+    """An arc command's machine direction (False for lines); :meth:`Machine.machine_cw` turns it
+    back into the program's (the map is its own inverse)."""
+    return bool(getattr(cmd, "clockwise", False))
 
 
 def cmd_program3(machine, cmd: canon.Command, base3) -> tuple[float, float, float]:

@@ -22,7 +22,7 @@ from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS, drill, pattern
-from interpreters.sinumerik.frames import Frames, modulo_target, rot_axis, rpy
+from interpreters.sinumerik.frames import Frames, diagonal, matmul, modulo_target, rot_axis, rpy
 from vmach import canon
 from vmach.canon import AxisSpec, ControlSpec
 from vmach.errors import ProgramError
@@ -363,6 +363,13 @@ class Machine:
             self.spindles[s] = [0.0, "stop"]
         return self.spindles[s]
 
+    def machine_cw(self, cw: bool) -> bool:
+        """The machine's direction of an arc programmed clockwise (``cw``) or not in the
+        working plane: a mirroring frame turns the plane over (G2 runs counter-clockwise)."""
+        g = self.geometry
+        a, b = PLANES[self.plane][:2]
+        return cw != (self.frames.rotated and self.frames.mirrors(g.index(a), g.index(b)))
+
     def tool_radius(self, code: str, src: SourceRef) -> float:
         """Radius (mm) of the active tool's D offset, for tool radius compensation."""
         if self.edge == 0:
@@ -383,7 +390,26 @@ class Machine:
         fc = v.frame
         vals = v.frame_values
         scale = INCH if self.inch else 1.0
-        if fc.name in ("TRANS", "ATRANS"):
+        if fc.name in ("SCALE", "ASCALE", "MIRROR", "AMIRROR"):
+            g = self.geometry
+            for k in vals:
+                if k not in g:
+                    raise ProgramError("unsupported", f"{fc.name}: {k} is not a geometry axis; vmach "
+                                       "scales and mirrors the geometry axes only", src.at(fc.col))
+            if fc.name.endswith("MIRROR"):
+                m = diagonal(tuple(-1.0 if n in vals else 1.0 for n in g))  # type: ignore[arg-type]
+            else:
+                if any(not val for val in vals.values()):
+                    raise ProgramError("invalid_value", f"{fc.name}: a scale factor of 0", src.at(fc.col))
+                m = diagonal(tuple(vals.get(n, 1.0) for n in g))  # type: ignore[arg-type]
+            if fc.name.startswith("A"):
+                self.frames.rot_add(m)
+            else:
+                self.frames.linear_abs(m)
+            if self.cutcom.engaged and not _unit_scale(self.frames.rot):
+                raise ProgramError("cutcom", f"{fc.name} while tool radius compensation is active: "
+                                   "a scaled frame would scale the tool radius", src.at(fc.col))
+        elif fc.name in ("TRANS", "ATRANS"):
             for k in vals:
                 if k not in self.specs:
                     self.add_axis(k)  # a loose axis (no strict axes): known from here on, as after a move
@@ -584,6 +610,9 @@ class Machine:
         letters = {"X": "I", "Y": "J", "Z": "K"}
         la, lb = letters[a_name], letters[b_name]
         cw = self.motion == "G2"
+        if not suppress and frames.rotated and not frames.similar(ia, ib):
+            raise ProgramError("unsupported", "a circle under a frame that scales the plane's axes "
+                               "differently (an ellipse) is not simulated", src)
         if "CR" in v.interp:
             r = float(v.interp["CR"][0]) * scale
             c = _centre_from_radius(ps[ia], ps[ib], pe[ia], pe[ib], r, cw, src)
@@ -616,8 +645,8 @@ class Machine:
         turns = int(v.interp.get("TURN", (0, None))[0])
         if self.feed <= 0:
             raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
-        cmd = canon.ArcFeed(src, axes=new, plane=plane, center=(cm[ia], cm[ib]), clockwise=cw,
-                            turns=turns, feed=self.feed)
+        cmd = canon.ArcFeed(src, axes=new, plane=plane, center=(cm[ia], cm[ib]),
+                            clockwise=cw if suppress else self.machine_cw(cw), turns=turns, feed=self.feed)
         return cmd, (ca, cb)
 
 
@@ -637,3 +666,9 @@ def _centre_from_radius(xa, ya, xb, yb, r, cw, src):
     if r < 0:
         side = -side
     return mx + side * h * nx, my + side * h * ny
+
+
+def _unit_scale(m) -> bool:
+    """Whether the linear map m keeps lengths (a rotation, possibly mirrored)."""
+    mt = matmul(m, tuple(tuple(m[j][i] for j in range(3)) for i in range(3)))
+    return all(abs(mt[i][j] - (1.0 if i == j else 0.0)) < 1e-9 for i in range(3) for j in range(3))

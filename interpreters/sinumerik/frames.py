@@ -5,8 +5,10 @@ Machine value of a geometry point p given in the current program coordinates::
 
     machine = settable + t + R · p          (programmable frame = Trans(t) · Rot(R))
 
-TRANS and ROT *replace* the whole programmable frame (as the control does); ATRANS adds a
-translation in the current, possibly rotated, system (t += R·a); AROT adds a rotation (R = R·Ra).
+TRANS, ROT, SCALE and MIRROR *replace* the whole programmable frame (as the control does);
+ATRANS adds a translation in the current, possibly rotated, system (t += R·a); AROT adds a
+rotation (R = R·Ra), ASCALE a scale (R = R·diag(s)), AMIRROR a mirror (R = R·diag(±1)). R is
+then a general linear map (rotation, scale, mirror), inverted for the way back.
 ROT with several axes turns about Z, then the new Y, then the new X (RPY, the control's default
 frame angle mode). ``RPL=`` turns in the working plane (about Z for G17, Y for G18, X for G19).
 Axes other than the geometry axes are only translated.
@@ -32,10 +34,6 @@ def apply(m: Matrix, v: tuple[float, float, float]) -> tuple[float, float, float
     )
 
 
-def transpose(m: Matrix) -> Matrix:
-    return tuple(tuple(m[j][i] for j in range(3)) for i in range(3))  # type: ignore[return-value]
-
-
 def rot_axis(axis: int, deg: float) -> Matrix:
     """Rotation by ``deg`` degrees about geometry axis 0 (X), 1 (Y) or 2 (Z), right-handed."""
     c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
@@ -44,6 +42,20 @@ def rot_axis(axis: int, deg: float) -> Matrix:
     if axis == 1:
         return ((c, 0.0, s), (0.0, 1.0, 0.0), (-s, 0.0, c))
     return ((c, -s, 0.0), (s, c, 0.0), (0.0, 0.0, 1.0))
+
+
+def inverse(m: Matrix) -> Matrix:
+    """Inverse of a 3×3 matrix (adjugate over determinant; the frames' maps are regular)."""
+    (a, b, c), (d, e, f), (g, h, i) = m
+    det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    adj = ((e * i - f * h, c * h - b * i, b * f - c * e),
+           (f * g - d * i, a * i - c * g, c * d - a * f),
+           (d * h - e * g, b * g - a * h, a * e - b * d))
+    return tuple(tuple(x / det for x in row) for row in adj)  # type: ignore[return-value]
+
+
+def diagonal(values: tuple[float, float, float]) -> Matrix:
+    return ((values[0], 0.0, 0.0), (0.0, values[1], 0.0), (0.0, 0.0, values[2]))
 
 
 def rpy(rx: float, ry: float, rz: float) -> Matrix:
@@ -62,6 +74,7 @@ class Frames:
         self.settable: dict[str, float] = {}
         self.trans: dict[str, float] = {}
         self.rot: Matrix = IDENTITY
+        self.back: Matrix = IDENTITY     # inverse of rot
         self.rotated = False
         self.off: dict[str, float] = {}
 
@@ -72,6 +85,7 @@ class Frames:
             a: self.settable.get(a, 0.0) + self.trans.get(a, 0.0) for a in {*self.settable, *self.trans}
         }
         self.rotated = self.rot != IDENTITY
+        self.back = inverse(self.rot) if self.rotated else IDENTITY
 
     def set_settable(self, offsets: dict[str, float]) -> None:
         self.settable = dict(offsets)
@@ -107,6 +121,31 @@ class Frames:
         self.rot = matmul(self.rot, m)
         self.refresh()
 
+    def linear_abs(self, m: Matrix) -> None:
+        """SCALE / MIRROR: the programmable frame becomes the linear map m alone."""
+        self.rot_abs(m)
+
+    def plane_map(self, ia: int, ib: int) -> tuple[float, float, float, float]:
+        """The frame's 2×2 block in the plane of geometry axes ia, ib: (a, b, c, d) row-major."""
+        r = self.rot
+        return r[ia][ia], r[ia][ib], r[ib][ia], r[ib][ib]
+
+    def mirrors(self, ia: int, ib: int) -> bool:
+        """Whether the frame turns the plane over (an arc's direction changes)."""
+        a, b, c, d = self.plane_map(ia, ib)
+        return a * d - b * c < 0
+
+    def similar(self, ia: int, ib: int) -> bool:
+        """Whether the frame maps circles of the plane to circles (scales it evenly)."""
+        a, b, c, d = self.plane_map(ia, ib)
+        n1, n2 = math.hypot(a, c), math.hypot(b, d)
+        return abs(n1 - n2) <= 1e-12 * max(n1, n2) and abs(a * b + c * d) <= 1e-12 * max(n1, n2) ** 2
+
+    def plane_scale(self, ia: int, ib: int) -> float:
+        """Length factor of the frame in the plane (when :meth:`similar`)."""
+        a, _, c, _ = self.plane_map(ia, ib)
+        return math.hypot(a, c)
+
     def origin(self, axes: list[str]) -> dict[str, float]:
         return {a: self.offset(a) for a in axes}
 
@@ -120,7 +159,7 @@ class Frames:
         d = tuple(machine[i] - self.offset(g[i]) for i in range(3))
         if not self.rotated:
             return d  # type: ignore[return-value]
-        return apply(transpose(self.rot), d)  # type: ignore[arg-type]
+        return apply(self.back, d)  # type: ignore[arg-type]
 
     def to_machine(self, p: tuple[float, float, float]) -> tuple[float, float, float]:
         """Program geometry coordinates -> machine values."""
