@@ -319,7 +319,7 @@ _LISTS = {
     "speeds": {"speed"},
     "ms": {"m"},
     "cycles": {"cycle", "machine_gcode", "aux", "spos", "builtin"},
-    "interp": {"interp", "cr", "turn", "corner"},
+    "interp": {"interp", "cr", "turn", "corner", "polar"},
     "frame_values": {"frame"},
 }
 
@@ -350,7 +350,7 @@ def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
         kind = item.kind
         if kind == "axis":
             return (lambda v: v.axes.append((item, _number(f(), item.name)))), col
-        if kind in ("interp", "cr", "turn", "corner"):
+        if kind in ("interp", "cr", "turn", "corner", "polar"):
             name, mode = item.name, item.mode
             return (lambda v: v.interp.__setitem__(name, (_number(f(), name), mode))), col
         if kind == "feed":

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 
+from interpreters.sinumerik import polar
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
@@ -126,6 +127,7 @@ class Machine:
         self.corners = Corners(self)
         self.mcall: tuple | None = None   # (cycle, args) called after every positioning block
         self.mcall_new = False            # set in the MCALL block itself (no call there)
+        self.pole: tuple[float, float] | None = None   # polar coordinates' pole, program plane, mm
         #: where motion commands go: ``out``, or the place of a block held for a chamfer
         self.sink: list = out
 
@@ -343,12 +345,16 @@ class Machine:
                 self.corners.modal = max(0.0, corner.pop("RNDM"))
             if "FRCM" in corner:
                 self.corners.feed_modal = max(0.0, corner.pop("FRCM"))
-        arc_words = v.interp and (corner is None or any(k not in CORNER_WORDS for k in v.interp))
+        polar_words = None
+        if v.interp and ("AP" in v.interp or "RP" in v.interp):
+            polar_words = {k: v.interp[k] for k in ("AP", "RP") if k in v.interp}
+            v.axes = polar.words(self, polar_words, v.axes, src)
+        arc_words = v.interp and any(k not in CORNER_WORDS and k not in ("AP", "RP") for k in v.interp)
         if v.axes or (self.motion in ("G2", "G3") and arc_words):
             g9 = block_exact and PATH_MODES[self.path_mode] != "exact"
             if g9:  # G9: exact stop at the end of this block only
                 out.append(canon.PathMode(src, mode="exact"))
-            self.move(v, src, suppress, corner or {})
+            self.move(v, src, suppress, corner or {}, polar_words is not None)
             if g9:
                 out.append(canon.PathMode(src, mode="continuous"))
         self.mcall_new = False
@@ -390,6 +396,9 @@ class Machine:
         fc = v.frame
         vals = v.frame_values
         scale = INCH if self.inch else 1.0
+        if fc.name in polar.POLES:
+            polar.set_pole(self, fc.name, vals, src.at(fc.col))
+            return
         if fc.name in ("SCALE", "ASCALE", "MIRROR", "AMIRROR"):
             g = self.geometry
             for k in vals:
@@ -447,7 +456,8 @@ class Machine:
         else:
             self.sink.append(cmd)
 
-    def move(self, v: Values, src: SourceRef, suppress: bool, corner: dict | None = None) -> None:
+    def move(self, v: Values, src: SourceRef, suppress: bool, corner: dict | None = None,
+             about_pole: bool = False) -> None:
         """Emit the block's motion (v.axes holds (Word, value) in textual order)."""
         new = None
         if not (suppress or self.inch or self.diameter or self.frames.rotated):
@@ -463,7 +473,7 @@ class Machine:
         elif motion == "G0":
             cmd = canon.Traverse(src, axes=new)
         else:
-            cmd, centre = self.arc(v, src, new, suppress)
+            cmd, centre = self.arc(v, src, new, suppress, about_pole)
         if self.cutcom.engaged or corner or self.corners.holding or self.corners.modal > 0:
             if suppress:
                 raise ProgramError("cutcom", "G53/G153/SUPA while tool radius compensation, a chamfer "
@@ -595,7 +605,7 @@ class Machine:
                 new[n] = m[i]
         return new
 
-    def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool) -> tuple:
+    def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool, about_pole: bool = False) -> tuple:
         """The block's ArcFeed and its centre (a, b) in program coordinates of the plane."""
         g = self.geometry
         plane = PLANES[self.plane]
@@ -613,7 +623,9 @@ class Machine:
         if not suppress and frames.rotated and not frames.similar(ia, ib):
             raise ProgramError("unsupported", "a circle under a frame that scales the plane's axes "
                                "differently (an ellipse) is not simulated", src)
-        if "CR" in v.interp:
+        if about_pole:
+            ca, cb = polar.pole(self)              # G2/G3 AP= RP=: about the pole
+        elif "CR" in v.interp:
             r = float(v.interp["CR"][0]) * scale
             c = _centre_from_radius(ps[ia], ps[ib], pe[ia], pe[ib], r, cw, src)
             ca, cb = c

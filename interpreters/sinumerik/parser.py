@@ -24,6 +24,7 @@ from interpreters.sinumerik.language import (
     Code,
 )
 from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token, number, split_comment, tokenize
+from interpreters.sinumerik.polar import POLES
 from vmach.canon import ControlSpec
 from vmach.errors import ProgramError
 from vmach.findings import Finding, error
@@ -39,8 +40,8 @@ _JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
 _MODES = ("AC", "IC", "ACP", "ACN", "DC")
 _INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "turn",
            "RND": "corner", "RNDM": "corner", "CHF": "corner", "CHR": "corner", "FRC": "corner",
-           "FRCM": "corner"}
-_INTERP_UNSUPPORTED = {"I1", "J1", "K1", "AR", "AP", "RP", "ANG"}
+           "FRCM": "corner", "AP": "polar", "RP": "polar"}
+_INTERP_UNSUPPORTED = {"I1", "J1", "K1", "AR", "ANG"}
 _BUILTINS = {"SETMS", "MSG", "WORKPIECE"}
 _SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "aux", "P": "repeat"}
 
@@ -508,6 +509,8 @@ class BlockParser:
             if code is not None:
                 if code.status == "unsupported":
                     self.fail("unsupported", f"{code_name} is not simulated by vmach", t.col)
+                if code.group == 3:            # G110/G111/G112: the pole, with the block's words
+                    return self.frame(Token(t.kind, code_name, t.col))
                 return b.GCode(t.col, code)
             if name in self.g.gcodes or code_name in self.g.gcodes:
                 return b.GCode(t.col, _machine_code(code_name), machine=True)
@@ -595,6 +598,10 @@ class BlockParser:
             if wt.text == "RPL" and t.text in ("ROT", "AROT") and self.is_op("="):
                 self.pos += 1
                 rpl = self.expr()
+                continue
+            if wt.text in ("AP", "RP") and t.text in POLES and self.is_op("="):
+                self.pos += 1
+                words.append(b.Word(wt.col, wt.text, "polar", self.expr()))
                 continue
             if self.is_op("="):
                 self.pos += 1
