@@ -125,14 +125,20 @@ class Compensator:
         self.radius = 0.0
         self.corner = "G450"
         self.approach = "NORM"
-        self.state = "off"          # off | selecting | on | deselecting
+        self.state = "off"
         self.pending: Element | None = None
         self.waiting: list[tuple[Slot, canon.Command]] = []   # other-axis moves after pending
         self.approach_block = False     # the pending element is the approach (G41/G42 block)
 
     @property
-    def engaged(self) -> bool:
-        return self.state != "off"
+    def state(self) -> str:
+        """off | selecting | on | deselecting."""
+        return self._state
+
+    @state.setter
+    def state(self, value: str) -> None:
+        self._state = value
+        self.engaged = value != "off"     # read on every fast-path move: a plain attribute
 
     # -- G41 / G42 / G40 -----------------------------------------------------------------
     def select(self, code: str, radius: float, src: SourceRef) -> None:

@@ -108,6 +108,7 @@ class Machine:
         self.frames = Frames(control.geometry)
         self.motion = "G0"
         self.plane = "G17"
+        self.plane_ab = ("X", "Y")        # the plane's first two axes (kept with ``plane``)
         self.absolute = True
         self.inch = False
         self.feed_mode = "per_minute"
@@ -128,6 +129,9 @@ class Machine:
         self.mcall: tuple | None = None   # (cycle, args) called after every positioning block
         self.mcall_new = False            # set in the MCALL block itself (no call there)
         self.pole: tuple[float, float] | None = None   # polar coordinates' pole, program plane, mm
+        #: the last move with motion in the plane (start, end machine values, arc centre in the
+        #: program plane or None, machine clockwise), for CT's tangent
+        self.last_move: tuple | None = None
         #: where motion commands go: ``out``, or the place of a block held for a chamfer
         self.sink: list = out
 
@@ -165,6 +169,7 @@ class Machine:
             self.out.append(canon.PathMode(src, mode=PATH_MODES[state["path_mode"]]))
         for k, v in state.items():
             setattr(self, k, v)
+        self.plane_ab = PLANES[self.plane][:2]
         self.frames.settable, self.frames.trans, self.frames.rot = frames
         self.frames.refresh()
         self.emit_frame(src)
@@ -199,6 +204,7 @@ class Machine:
                         raise ProgramError("cutcom", f"{name}: the plane cannot change while tool radius "
                                            "compensation is active (G40 first)", src.at(col))
                     self.plane = name
+                    self.plane_ab = PLANES[name][:2]
                     out.append(canon.PlaneSelect(src, plane=PLANES[name]))
             elif grp == 14:
                 self.absolute = name == "G90"
@@ -350,7 +356,7 @@ class Machine:
             polar_words = {k: v.interp[k] for k in ("AP", "RP") if k in v.interp}
             v.axes = polar.words(self, polar_words, v.axes, src)
         arc_words = v.interp and any(k not in CORNER_WORDS and k not in ("AP", "RP") for k in v.interp)
-        if v.axes or (self.motion in ("G2", "G3") and arc_words):
+        if v.axes or (self.motion in ("G2", "G3", "CIP", "CT") and arc_words):
             g9 = block_exact and PATH_MODES[self.path_mode] != "exact"
             if g9:  # G9: exact stop at the end of this block only
                 out.append(canon.PathMode(src, mode="exact"))
@@ -474,6 +480,9 @@ class Machine:
             cmd = canon.Traverse(src, axes=new)
         else:
             cmd, centre = self.arc(v, src, new, suppress, about_pole)
+        a, b = self.plane_ab
+        if centre is not None or new[a] != self.pos[a] or new[b] != self.pos[b]:
+            self.last_move = (self.pos, new, centre, getattr(cmd, "clockwise", False))
         if self.cutcom.engaged or corner or self.corners.holding or self.corners.modal > 0:
             if suppress:
                 raise ProgramError("cutcom", "G53/G153/SUPA while tool radius compensation, a chamfer "
@@ -488,10 +497,74 @@ class Machine:
         if self.mcall is not None and not self.mcall_new:
             drill(self, self.mcall[0], self.mcall[1], src)   # MCALL: after each positioning block
 
+    def tangent(self) -> tuple[float, float] | None:
+        """Unit tangent (program plane) at the end of the last move in the plane: CT leaves
+        along it. None before any."""
+        if self.last_move is None:
+            return None
+        start, end, centre, cw = self.last_move
+        g = self.geometry
+        a, b = PLANES[self.plane][:2]
+        ia, ib = g.index(a), g.index(b)
+        pe = self.frames.to_program(tuple(end[n] for n in g))
+        if centre is not None:
+            u = (pe[ia] - centre[0], pe[ib] - centre[1])
+            t = (u[1], -u[0]) if self.machine_cw(cw) else (-u[1], u[0])
+        else:
+            ps = self.frames.to_program(tuple(start[n] for n in g))
+            t = (pe[ia] - ps[ia], pe[ib] - ps[ib])
+        n = math.hypot(*t)
+        return (t[0] / n, t[1] / n) if n > 1e-12 else None
+
+    def _intermediate(self, v: Values, ps, src: SourceRef) -> tuple:
+        """CIP's intermediate point (I1= J1= K1=), program coordinates: absolute under G90 or
+        with AC, from the start under G91 or with IC."""
+        scale = INCH if self.inch else 1.0
+        out = list(ps)
+        given = False
+        for i, letter in enumerate(("I1", "J1", "K1")):
+            if letter in v.interp:
+                val, mode = v.interp[letter]
+                val = float(val) * scale
+                inc = mode == "IC" or (mode is None and not self.absolute)
+                out[i] = ps[i] + val if inc else val
+                given = True
+        if not given:
+            raise ProgramError("arc_error", "CIP needs the intermediate point I1= J1= K1=", src)
+        return tuple(out)
+
+    def _opening(self, v: Values, ps, pe, cw: bool, ia: int, ib: int, scale: float, src: SourceRef):
+        """G2/G3 with AR= (opening angle, degrees): the centre from the end point, or the end
+        point from the centre (I/J). Returns (centre, new end or None)."""
+        ar = float(v.interp["AR"][0])
+        letters = {"X": "I", "Y": "J", "Z": "K"}
+        la, lb = letters[PLANES[self.plane][0]], letters[PLANES[self.plane][1]]
+        if not 0 < ar < 360:
+            raise ProgramError("arc_error", f"AR={ar:g}: the opening angle must lie between 0 and 360", src)
+        if la in v.interp or lb in v.interp:
+            vals = []
+            for letter, i in ((la, ia), (lb, ib)):
+                val, mode = v.interp.get(letter, (0.0, None))
+                val = float(val) * scale
+                vals.append(val if mode == "AC" else ps[i] + val)
+            c = (vals[0], vals[1])
+            t = math.radians(-ar if cw else ar)
+            u = (ps[ia] - c[0], ps[ib] - c[1])
+            end = list(pe)
+            end[ia] = c[0] + u[0] * math.cos(t) - u[1] * math.sin(t)
+            end[ib] = c[1] + u[0] * math.sin(t) + u[1] * math.cos(t)
+            return c, tuple(end)
+        chord = math.hypot(pe[ia] - ps[ia], pe[ib] - ps[ib])
+        if chord < 1e-12:
+            raise ProgramError("arc_error", "AR= with the end point at the start", src)
+        r = chord / (2.0 * math.sin(math.radians(ar) / 2.0))
+        # a CR= of the same circle: negative for more than 180°
+        return _centre_from_radius(ps[ia], ps[ib], pe[ia], pe[ib], r if ar <= 180 else -r, cw, src), None
+
     def straight(self, words: list, src: SourceRef) -> bool:
         """Fast path for blocks of G0/G1 axis words only; False when it does not apply."""
         if (self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged
-                or self.corners.holding or self.corners.modal > 0 or self.mcall is not None):
+                or self.corners.held is not None or self.corners.modal or self.mcall is not None):
             return False
         new = self._plain_targets(words)
         if new is None:
@@ -502,6 +575,10 @@ class Machine:
             self.out.append(canon.LinearFeed(src, axes=new, feed=self.feed))
         else:
             self.out.append(canon.Traverse(src, axes=new))
+        a, b = self.plane_ab
+        pos = self.pos
+        if new[a] != pos[a] or new[b] != pos[b]:
+            self.last_move = (pos, new, None, False)
         self.pos = new
         return True
 
@@ -623,8 +700,20 @@ class Machine:
         if not suppress and frames.rotated and not frames.similar(ia, ib):
             raise ProgramError("unsupported", "a circle under a frame that scales the plane's axes "
                                "differently (an ellipse) is not simulated", src)
-        if about_pole:
+        if self.motion == "CIP":
+            (ca, cb), cw = _through(ps, pe, self._intermediate(v, ps, src), ia, ib, src)
+        elif self.motion == "CT":
+            (ca, cb), cw = _tangential(ps, pe, self.tangent(), ia, ib, src)
+        elif about_pole:
             ca, cb = polar.pole(self)              # G2/G3 AP= RP=: about the pole
+        elif "AR" in v.interp:
+            (ca, cb), pe = self._opening(v, ps, pe, cw, ia, ib, scale, src)
+            if pe is not None:                     # centre and angle: the end point follows
+                m = frames.to_machine(pe) if not suppress else pe
+                for i, n in enumerate(g):
+                    new[n] = m[i]
+            pe = tuple(new[n] for n in g)
+            pe = pe if suppress else frames.to_program(pe)
         elif "CR" in v.interp:
             r = float(v.interp["CR"][0]) * scale
             c = _centre_from_radius(ps[ia], ps[ib], pe[ia], pe[ib], r, cw, src)
@@ -660,6 +749,35 @@ class Machine:
         cmd = canon.ArcFeed(src, axes=new, plane=plane, center=(cm[ia], cm[ib]),
                             clockwise=cw if suppress else self.machine_cw(cw), turns=turns, feed=self.feed)
         return cmd, (ca, cb)
+
+
+def _through(ps, pe, pm, ia: int, ib: int, src: SourceRef):
+    """Centre (plane) and direction of the circle from ps through pm to pe (CIP)."""
+    k = 3 - ia - ib
+    if abs(pm[k] - ps[k]) > 1e-6 or abs(pe[k] - ps[k]) > 1e-6:
+        raise ProgramError("unsupported", "CIP with the three points off the working plane (a circle in "
+                           "space) is not simulated", src)
+    ax, ay, bx, by, cx, cy = ps[ia], ps[ib], pm[ia], pm[ib], pe[ia], pe[ib]
+    d = 2.0 * (ax * (by - cy) + bx * (cy - ay) + cx * (ay - by))
+    if abs(d) < 1e-12 * max(1.0, ax * ax + ay * ay + bx * bx + by * by + cx * cx + cy * cy):
+        raise ProgramError("arc_error", "CIP: the three points lie on a line", src)
+    a2, b2, c2 = ax * ax + ay * ay, bx * bx + by * by, cx * cx + cy * cy
+    ux = (a2 * (by - cy) + b2 * (cy - ay) + c2 * (ay - by)) / d
+    uy = (a2 * (cx - bx) + b2 * (ax - cx) + c2 * (bx - ax)) / d
+    return (ux, uy), d < 0                  # the turn start -> middle -> end: clockwise when d < 0
+
+
+def _tangential(ps, pe, tangent, ia: int, ib: int, src: SourceRef):
+    """Centre and direction of the circle leaving ps along ``tangent`` to pe (CT)."""
+    if tangent is None:
+        raise ProgramError("arc_error", "CT needs a path before it to be tangent to", src)
+    d = (pe[ia] - ps[ia], pe[ib] - ps[ib])
+    n = (-tangent[1], tangent[0])                 # left of the tangent
+    dn = d[0] * n[0] + d[1] * n[1]
+    if abs(dn) < 1e-9:
+        raise ProgramError("arc_error", "CT: the end point lies on the tangent (a straight line)", src)
+    rho = (d[0] * d[0] + d[1] * d[1]) / (2.0 * dn)   # signed: > 0 centre on the left (counter-clockwise)
+    return (ps[ia] + rho * n[0], ps[ib] + rho * n[1]), rho < 0
 
 
 def _centre_from_radius(xa, ya, xb, yb, r, cw, src):

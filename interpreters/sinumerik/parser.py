@@ -40,8 +40,9 @@ _JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
 _MODES = ("AC", "IC", "ACP", "ACN", "DC")
 _INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "turn",
            "RND": "corner", "RNDM": "corner", "CHF": "corner", "CHR": "corner", "FRC": "corner",
-           "FRCM": "corner", "AP": "polar", "RP": "polar"}
-_INTERP_UNSUPPORTED = {"I1", "J1", "K1", "AR", "ANG"}
+           "FRCM": "corner", "AP": "polar", "RP": "polar", "I1": "interp", "J1": "interp", "K1": "interp",
+           "AR": "interp"}
+_INTERP_UNSUPPORTED = {"ANG"}
 _BUILTINS = {"SETMS", "MSG", "WORKPIECE"}
 _SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "aux", "P": "repeat"}
 

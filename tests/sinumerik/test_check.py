@@ -38,7 +38,7 @@ def test_clean_program_has_no_findings(tmp_path):
         ("G0 X1 Q5\nM30\n", [("unknown_word", 1, 7)]),
         ("G999 X1\nM30\n", [("unknown_gcode", 1, 1)]),
         ("G0 G1 X1\nM30\n", [("modal_conflict", 1, 4)]),
-        ("CIP X1\nM30\n", [("unsupported", 1, 1)]),
+        ("ASPLINE X1\nM30\n", [("unsupported", 1, 1)]),
         ("G1 X=(1+2 F10\nM30\n", [("syntax", 1, 11)]),
         ("G1 X=FOO F10\nM30\n", [("undefined_variable", 1, 6)]),
         ("G0 X1\nDEF REAL A\nM30\n", [("def_position", 2, 1)]),
