@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from interpreters.sinumerik import circles, polar
+from interpreters.sinumerik import circles, polar, tracyl
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
@@ -129,6 +129,7 @@ class Machine:
         self.mcall: tuple | None = None   # (cycle, args) called after every positioning block
         self.mcall_new = False            # set in the MCALL block itself (no call there)
         self.pole: tuple[float, float] | None = None   # polar coordinates' pole, program plane, mm
+        self.tracyl = None                # the active TRACYL's start mark (tracyl.Mark)
         #: the last move with motion in the plane (start, end machine values, arc centre in the
         #: program plane or None, machine clockwise), for CT's tangent
         self.last_move: tuple | None = None
@@ -237,6 +238,11 @@ class Machine:
                 self.path_mode = name
             elif grp == 11:
                 block_exact = True
+            elif grp == 100:
+                if name == "TRACYL":
+                    raise ProgramError("syntax", "TRACYL needs the working diameter: TRACYL(d)", src.at(col))
+                if self.tracyl is not None:
+                    out.append(tracyl.deactivate(self))
             elif grp == 7:
                 comp = (name, col)
             elif grp == 17:
@@ -338,6 +344,8 @@ class Machine:
                 drill(self, name, args, src)
             elif name in PATTERNS:
                 pattern(self, name, args, src)
+            elif name == "TRACYL":
+                out.append(tracyl.activate(self, args, src))
             elif name.startswith("MCALL"):
                 self.mcall = (name[6:], args) if name != "MCALL" else None
                 self.mcall_new = True
@@ -465,6 +473,11 @@ class Machine:
     def move(self, v: Values, src: SourceRef, suppress: bool, corner: dict | None = None,
              about_pole: bool = False) -> None:
         """Emit the block's motion (v.axes holds (Word, value) in textual order)."""
+        if self.tracyl is not None:
+            for word, _ in v.axes:
+                if word.name == self.tracyl.rotary:
+                    raise ProgramError("syntax", f"{word.name} is the cylinder's unwrapped Y while TRACYL "
+                                       "is active (TRAFOOF first)", src.at(word.col))
         new = None
         if not (suppress or self.inch or self.diameter or self.frames.rotated):
             new = self._plain_targets(v.axes)
@@ -519,7 +532,8 @@ class Machine:
     def straight(self, words: list, src: SourceRef) -> bool:
         """Fast path for blocks of G0/G1 axis words only; False when it does not apply."""
         if (self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged
-                or self.corners.held is not None or self.corners.modal or self.mcall is not None):
+                or self.corners.held is not None or self.corners.modal or self.mcall is not None
+                or self.tracyl is not None):
             return False
         new = self._plain_targets(words)
         if new is None:

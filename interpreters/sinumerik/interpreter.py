@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik import tracyl
 from interpreters.sinumerik.compile import CALL, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
@@ -127,7 +128,7 @@ class Interpreter:
         except ProgramError as exc:
             self.findings.append(exc.finding)
             completed = False
-        return RunResult(flatten(self.out), self.findings, completed, self.blocks)
+        return RunResult(tracyl.apply(flatten(self.out)), self.findings, completed, self.blocks)
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:

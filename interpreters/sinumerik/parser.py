@@ -43,7 +43,7 @@ _INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "tur
            "FRCM": "corner", "AP": "polar", "RP": "polar", "I1": "interp", "J1": "interp", "K1": "interp",
            "AR": "interp"}
 _INTERP_UNSUPPORTED = {"ANG"}
-_BUILTINS = {"SETMS", "MSG", "WORKPIECE"}
+_BUILTINS = {"SETMS", "MSG", "WORKPIECE", "TRACYL"}
 _SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "aux", "P": "repeat"}
 
 
@@ -478,7 +478,7 @@ class BlockParser:
         name = t.text
         if name in UNSUPPORTED_WORDS:
             self.fail("unsupported", f"{name} is not simulated", t.col)
-        if name in CODES or name in ACCEPTED_WORDS or name in self.variables:
+        if (name in CODES and name not in _BUILTINS) or name in ACCEPTED_WORDS or name in self.variables:
             self.fail("syntax", f"{name} takes no arguments", t.col)
         self.expect_op("(")
         args: list[Node | None] = []

@@ -98,3 +98,27 @@ holder = { diameter = 30.0, length = 40.0 }
             assert r.min() > radius - tol and r.max() < radius + tol
     below = mesh.section(plane_origin=[0, 0, -10.05], plane_normal=[0, 0, 1])
     assert all(np.ptp(loop[:, 0]) > 10 for loop in below.discrete)   # the point ends at −10
+
+
+def test_a_tracyl_groove_on_the_turn_mill(tmp_path):
+    """TRACYL(60): the D25 end mill, radial, runs 30 mm along the unwrapped surface of a Ø60
+    shaft 3 mm deep; the part's section through the groove is at radius 27 over the arc that
+    30 mm unwraps to (57.3° at Ø60), and at the blank's 30 elsewhere."""
+    from catalog import POLYGON_TOOLS
+
+    prog = tmp_path / "GROOVE.MPF"
+    prog.write_text('T="GLOD D25" D1\nG54 G19 G90\nSETMS(2)\nG94 S2=1500 M2=3\nC_AXIS_ON\nC1=0\n'
+                    "G0 X40 Y0 Z-20\nTRACYL(60)\nG1 X27 F300\nY30\nG0 X40\nTRAFOOF\nM2=5\nM30\n")
+    part = tmp_path / "part.stl"
+    assert main(["verify", str(prog), "--machine", "turnmill", "--tools", str(POLYGON_TOOLS),
+                 "--stock", "cylinder:d=60,l=60", "--export", str(part), "--out", str(tmp_path / "o"),
+                 "--no-images", "--quiet"]) == 0
+    loops = trimesh.load(part).section(plane_origin=[0, 0, -20], plane_normal=[0, 0, 1]).discrete
+    pts = np.concatenate([loop[:, :2] for loop in loops])
+    r = np.hypot(pts[:, 0], pts[:, 1])
+    ang = np.degrees(np.arctan2(pts[:, 1], pts[:, 0])) % 360
+    sweep = math.degrees(30 / 30)                    # 30 mm of arc at radius 30: 57.3°
+    inside = (ang > 5) & (ang < sweep - 5)
+    assert inside.any() and np.abs(r[inside] - 27).max() < 0.02
+    outside = (ang > sweep + 40) & (ang < 360 - 40)
+    assert outside.any() and np.abs(r[outside] - 30).max() < 0.01
