@@ -142,7 +142,8 @@ class Block:
     """One block (line).
 
     kind : "nc" (words), "if", "else", "endif", "while", "endwhile", "for", "endfor",
-        "repeat", "until", "loop", "endloop", "case", "def", "proc", "bad" (did not parse),
+        "repeat", "until", "loop", "endloop", "case", "def", "proc", "section" (REPEAT label /
+        REPEATB: program section repetition), "bad" (did not parse),
         "label" (label only).
     """
 
@@ -165,6 +166,8 @@ class Block:
     for_end: Node | None = None
     defs: list[VarDef] = field(default_factory=list)
     proc: ProcHeader | None = None
+    #: program section repetition (kind "section"): (label, end label or None, P or None, REPEATB)
+    section: tuple | None = None
     # filled by structure analysis: index of the partner block (ENDIF for IF, ...)
     partner: int = -1
     partner2: int = -1  # ELSE of an IF

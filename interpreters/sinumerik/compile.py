@@ -20,7 +20,7 @@ from vmach.source import SourceRef
 if TYPE_CHECKING:
     from interpreters.sinumerik.interpreter import Interpreter
 
-END_LEVEL, CALL, STOP = -1, -2, -3
+END_LEVEL, CALL, STOP, SECTION = -1, -2, -3, -4
 
 
 def compile_block(it: Interpreter, program: b.Program, blk: b.Block) -> Callable[[], int]:
@@ -96,6 +96,8 @@ def compile_block(it: Interpreter, program: b.Program, blk: b.Block) -> Callable
         return _for(it, program, blk, src)
     if kind == "endfor":
         return _endfor(it, program, blk, src)
+    if kind == "section":
+        return _section(it, program, blk, src)
     if kind == "case":
         sel = compile_expr(blk.cond, env)
         cases = [(compile_expr(v, env), it.jump_target(program, blk, j)) for v, j in blk.cases]
@@ -473,3 +475,42 @@ def _number(v, name: str):
     if v.__class__ is str:
         raise EvalError("type_error", f"{name} needs a number, not the string {v!r}")
     return v
+
+
+def _section(it, program, blk, src):
+    """REPEAT / REPEATB: run blocks start..stop-1 of this program P times, then go on after
+    the statement (the control's search: the label toward the program start first, then toward
+    its end; the end label, or ENDLABEL, after it; REPEAT with one label alone ends before
+    itself)."""
+    label, end_label, count, single = blk.section
+    at = blk.index
+    cands = program.labels.get(label, [])
+    back = [i for i in cands if i < at]
+    ahead = [i for i in cands if i > at]
+    start = back[-1] if back else (ahead[0] if ahead else None)
+    if start is None:
+        return _alarm("undefined_label", f"REPEAT{'B' if single else ''} {label}: label not found", src)
+    if single:
+        stop = start + 1
+    else:
+        name = end_label or "ENDLABEL"
+        ends = [i for i in program.labels.get(name, []) if i >= start]
+        if end_label is not None and not ends:
+            return _alarm("undefined_label", f"REPEAT {label} {end_label}: label not found", src)
+        if ends and (end_label is not None or ends[0] < at or start > at):
+            stop = ends[0] + 1
+        elif start < at:
+            stop = at                       # from the label up to the REPEAT statement
+        else:
+            return _alarm("undefined_label", f"REPEAT {label}: no end of the section (ENDLABEL)", src)
+    times = compile_expr(count, it.env) if count is not None else (lambda: 1)
+    nxt = blk.index + 1
+
+    def section():
+        n = times()
+        if n.__class__ is str or n != int(n) or n < 1:
+            raise ProgramError("invalid_value", f"P={n}: the repeat count must be a whole number >= 1", src)
+        it.pending = (start, stop, int(n), src, nxt)
+        return SECTION
+
+    return section

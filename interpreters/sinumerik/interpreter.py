@@ -16,7 +16,7 @@ from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik import tracyl
-from interpreters.sinumerik.compile import CALL, STOP, compile_block
+from interpreters.sinumerik.compile import CALL, SECTION, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
 from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
@@ -49,6 +49,8 @@ class Level:
     back: list = field(default_factory=list)  # (param name, Target) copied back at return
     repeat: int = 1
     call_src: SourceRef | None = None
+    start: int = 0                  # a repeated program section (REPEAT): blocks start..stop-1
+    stop: int | None = None
 
 
 def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
@@ -168,7 +170,7 @@ class Interpreter:
         level = self.stack[-1]
         if level.repeat > 1:
             level.repeat -= 1
-            level.pc = 0
+            level.pc = level.start
             return True
         self.stack.pop()
         if level.saved is not None:
@@ -185,11 +187,12 @@ class Interpreter:
         while self.stack:
             level = self.stack[-1]
             ops = self.ops(level.loaded)
-            n = len(ops)
+            n = len(ops) if level.stop is None else level.stop
+            first = level.start
             pc = level.pc
             count = self.blocks
             try:
-                while 0 <= pc < n:
+                while first <= pc < n:
                     count += 1
                     if count > limit:
                         blk = level.loaded.program.blocks[pc]
@@ -212,6 +215,15 @@ class Interpreter:
                 name, args, src, repeat, ret = self.pending  # type: ignore[misc]
                 level.pc = ret
                 self.call(name, args, src, repeat)
+                continue
+            if pc == SECTION:
+                start, stop, repeat, src, ret = self.pending  # type: ignore[misc]
+                level.pc = ret
+                if len(self.stack) >= self.options.max_call_depth:
+                    raise ProgramError("call_depth", f"more than {self.options.max_call_depth} nested "
+                                       "program levels and repeated sections", src)
+                self.stack.append(Level(level.loaded, level.vars, pc=start, repeat=repeat, call_src=src,
+                                        start=start, stop=stop))
                 continue
             if pc == STOP:
                 self.stack.clear()

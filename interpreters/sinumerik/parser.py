@@ -166,6 +166,8 @@ class BlockParser:
             else:
                 block.kind = "if"
                 self.expect_end("the IF condition")
+        elif name in ("REPEAT", "REPEATB") and (self.tok.kind != END or name == "REPEATB"):
+            self.section(block, name)
         elif name in ("ELSE", "ENDIF", "ENDWHILE", "ENDFOR", "REPEAT", "LOOP", "ENDLOOP"):
             block.kind = name.lower()
             self.expect_end(name)
@@ -227,6 +229,23 @@ class BlockParser:
             self.pos = len(self.toks) - 1
         else:
             self.fail("syntax", f"{name} cannot start a block here", t.col)
+
+    def section(self, block: b.Block, name: str) -> None:
+        """``REPEAT label [label] [P=n]`` / ``REPEATB label [P=n]``: program section repetition."""
+        labels = []
+        while self.tok.kind == IDENT and not (self.tok.text == "P" and self.is_op("=", 1)):
+            labels.append(self.tok.text)
+            self.pos += 1
+        count = None
+        if self.tok.kind == IDENT and self.tok.text == "P":
+            self.pos += 2
+            count = self.expr()
+        if not labels or len(labels) > (1 if name == "REPEATB" else 2):
+            self.fail("syntax", f"{name} needs {'one label' if name == 'REPEATB' else 'one or two labels'}"
+                      " and optionally P=n")
+        self.expect_end(name)
+        block.kind = "section"
+        block.section = (labels[0], labels[1] if len(labels) > 1 else None, count, name == "REPEATB")
 
     def jump(self) -> b.Jump:
         t = self.tok

@@ -181,6 +181,11 @@ def _defs_first(program: Program) -> list[Finding]:
 def _jumps(program: Program) -> list[Finding]:
     out: list[Finding] = []
     for blk in program.blocks:
+        if blk.section is not None:
+            for name in blk.section[:2]:
+                if name is not None and not program.labels.get(name):
+                    out.append(error("undefined_label", f"REPEAT: label {name} does not exist",
+                                     src(program, blk, 1), target=name))
         jumps = (
             ([blk.jump] if blk.jump else [])
             + [j for _, j in blk.cases]

@@ -286,3 +286,41 @@ def test_msg_and_string_concatenation(tmp_path):
     r = ok(tmp_path, 'R1=3\nMSG("pass " << R1)\nM30\n')
     msgs = [c.text for c in r.commands if c.kind == "message"]
     assert msgs == ["pass 3"]
+
+
+def _xs(r):
+    from nc import moves
+
+    return [m.axes["X"] for m in moves(r)]
+
+
+def test_repeat_between_two_labels_and_repeatb(tmp_path):
+    from nc import ok
+
+    r = ok(tmp_path, "G0 X0\nAA1: G1 X1 F100\nX2\nAA2: X3\nREPEAT AA1 AA2 P=2\nREPEATB AA1 P=1\nX9\nM30\n")
+    assert _xs(r) == [0, 1, 2, 3, 1, 2, 3, 1, 2, 3, 1, 9]
+
+
+def test_repeat_one_label_runs_up_to_itself_and_endlabel_ends_a_section(tmp_path):
+    from nc import ok
+
+    r = ok(tmp_path, "R1=0\nLOOP1: R1=R1+1\nG0 X=R1\nREPEAT LOOP1 P=2\nX100\nM30\n")
+    assert _xs(r) == [1, 2, 3, 100]
+    r = ok(tmp_path, "G0 X0\nSS1: X1\nX2\nENDLABEL: X3\nX4\nREPEAT SS1 P=1\nM30\n")
+    assert _xs(r) == [0, 1, 2, 3, 4, 1, 2, 3]
+
+
+def test_repeated_sections_nest(tmp_path):
+    from nc import ok
+
+    r = ok(tmp_path, "G0 X0\nOUT1: X1\nIN1: X2\nREPEATB IN1 P=2\nOUT2: X3\nREPEAT OUT1 OUT2 P=1\nM30\n")
+    assert _xs(r) == [0, 1, 2, 2, 2, 3, 1, 2, 2, 2, 3]
+
+
+def test_a_repeat_of_a_missing_label_is_found_before_running(tmp_path):
+    from nc import check, error_of, run
+
+    found = check(tmp_path, "G0 X0\nREPEAT NOPE P=2\nM30\n")
+    assert [(f.kind, f.line) for f in found] == [("undefined_label", 2)]
+    f = error_of(run(tmp_path, "G0 X0\nAA1: X1\nREPEAT AA1 P=0\nM30\n"))
+    assert (f.kind, f.line) == ("invalid_value", 3)
