@@ -197,6 +197,13 @@ class CompMixin:
         self.comp_endpoint = (x, y)
         self.comp_endpoint_valid = True
 
+    def queue_front(self) -> QMove | None:
+        """``qc().front()``: the first queued move. LinuxCNC reads it unguarded in concave
+        corners; after a flush (M0, M1) the cleared vector still holds the first move it
+        had, and LinuxCNC uses that: so does this."""
+        queue = self.out.queue
+        return queue[0] if queue else self.comp_stale_front
+
     def enqueue(self, move: QMove) -> None:
         self.out.queue.append(move)
 
@@ -208,6 +215,7 @@ class CompMixin:
         if not items:
             return
         out.queue = []
+        self.comp_stale_front = items[0]
         src = out.src
         for item in items:
             out.src = item.src
@@ -374,7 +382,8 @@ class CompMixin:
                 self.dequeue()
                 self.set_endpoint(mid_x, mid_y)
             elif concave:
-                if not front_arc:
+                front = self.queue_front()
+                if front is None or front.kind != "arc":
                     self._line_line_corner(beta, theta, gamma, cx, cy)
                 else:
                     self._arc_line_corner(front, px, py, opx, opy)
@@ -533,9 +542,8 @@ class CompMixin:
         sweep = find_turn(opx, opy, centerx, centery, turn, end_x, end_y)
         if (beta < -TOLERANCE_CONCAVE_CORNER or fbeta > _PI_PLUS_SMALL
                 or (abs(round_ld(fbeta - PI_L)) < _SMALL and not inside)):
-            queue = self.out.queue
-            front = queue[0] if queue else None
-            if type(front) is QMove and front.kind == "arc":
+            front = self.queue_front()
+            if front is not None and front.kind == "arc":
                 self._arc_arc_corner(front, centerx, centery, arc_radius, turn)
             else:
                 self._line_arc_corner(centerx, centery, arc_radius, turn, beta, theta)

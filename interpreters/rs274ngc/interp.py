@@ -120,6 +120,7 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
         self.known_words = frozenset(c for c in "xyzabcf" if c == "f" or c.upper() in self.known_axes)
         self.comp_endpoint = (0.0, 0.0)  # interp_queue.cc's endpoint (comp.py)
         self.comp_endpoint_valid = False
+        self.comp_stale_front = None  # what qc().front() reads once the queue is empty
         self.init_flow()
 
     # -- evaluation context (see expr.py) ----------------------------------------------------
