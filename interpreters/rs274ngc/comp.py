@@ -124,11 +124,6 @@ class CompMixin:
         prog = self.s.comp_program
         prog[i], prog[j], prog[k] = p1, p2, p3
 
-    def comp_active(self) -> bool:
-        """Moves are compensated (a side and a radius above zero)."""
-        s = self.s
-        return bool(s.comp_side) and s.comp_radius > 0.0
-
     # -- G40 G41 G42 ---------------------------------------------------------------------------
 
     def convert_cutter_compensation(self, code: int, block: blk.Block) -> None:
@@ -337,64 +332,77 @@ class CompMixin:
         """A compensated straight move after the entry (plane coordinates)."""
         s = self.s
         kind = "traverse" if move == 0 else "feed"
-        cx, cy, cz = self.comp_current()
-        opx, opy, opz = self.comp_programmed()
+        cx, cy, _ = self.comp_current()
+        opx, opy, _ = self.comp_programmed()
         end_x, end_y = cx, cy
-        if py == opy and px == opx:  # no motion in the plane
+        if py == opy and px == opx:  # no motion in the plane: the tool stays where it is
             self.enqueue(self._qmove(kind, block, cx, cy, pz, abc, d1=px - opx, d2=py - opy))
         else:
-            side = s.comp_side
-            radius = s.comp_radius
-            theta = math.atan2(cy - opy, cx - opx)
-            alpha = math.atan2(py - opy, px - opx)
-            if side == LEFT:
-                if theta < alpha:
-                    theta = ld_plus(theta, 4)
-                beta = ld_plus(theta - alpha, -1)
-                gamma = _HALF_PI
-            else:
-                if alpha < theta:
-                    alpha = ld_plus(alpha, 4)
-                beta = ld_plus(alpha - theta, -1)
-                gamma = -_HALF_PI
-            end_x = px + radius * math.cos(alpha + gamma)
-            end_y = py + radius * math.sin(alpha + gamma)
-            mid_x = opx + radius * math.cos(alpha + gamma)
-            mid_y = opy + radius * math.sin(alpha + gamma)
-            fbeta = Fraction(beta)
-            queue = self.out.queue
-            front = queue[0] if queue else None
-            front_arc = type(front) is QMove and front.kind == "arc"
-            if beta < -TOLERANCE_CONCAVE_CORNER or fbeta > _PI_PLUS_SMALL:
-                concave = True
-            elif fbeta > _PI_MINUS_SMALL and front_arc and (
-                    (side == RIGHT and front.turn > 0) or (side == LEFT and front.turn < 0)):
-                concave = True  # an "h" shape: stay above and beside, do not loop around
-            else:
-                concave = False
-            if not concave and beta > TOLERANCE_CONCAVE_CORNER:  # convex: an arc around
-                self.move_endpoint_and_flush(cx, cy)
-                if move == 10:
-                    self.enqueue(self._qmove("arc", block, mid_x, mid_y, cz, abc, c1=opx,
-                                             c2=opy, turn=-1 if side == LEFT else 1))
-                else:  # no arc traverse: a traverse to the arc's end
-                    self.enqueue(self._qmove("traverse", block, mid_x, mid_y, cz, abc))
-                self.dequeue()
-                self.set_endpoint(mid_x, mid_y)
-            elif concave:
-                front = self.queue_front()
-                if front is None or front.kind != "arc":
-                    self._line_line_corner(beta, theta, gamma, cx, cy)
-                else:
-                    self._arc_line_corner(front, px, py, opx, opy)
-            else:  # straight on, or a tangent arc to line
-                self.dequeue()
-                self.set_endpoint(cx, cy)
+            end_x, end_y = self._straight_corner(move, block, px, py, abc)
             self.enqueue(self._qmove(kind, block, end_x, end_y, pz, abc, d1=px - opx,
                                      d2=py - opy))
         self.comp_set_current(end_x, end_y, pz)
         s.pos[3:6] = abc
         self.comp_set_programmed(px, py, pz)
+
+    def _straight_corner(self, move: int, block: blk.Block, px: float, py: float,
+                         abc) -> tuple[float, float]:
+        """The corner before a compensated straight move to (px, py): an arc (or, for G0, a
+        traverse) around a convex corner, the previous move cut short in a concave one.
+        Returns the tool's end point of the straight move."""
+        s = self.s
+        side = s.comp_side
+        radius = s.comp_radius
+        cx, cy, cz = self.comp_current()
+        opx, opy, _ = self.comp_programmed()
+        theta = math.atan2(cy - opy, cx - opx)  # from the programmed point to the tool
+        alpha = math.atan2(py - opy, px - opx)  # the new direction
+        if side == LEFT:
+            if theta < alpha:
+                theta = ld_plus(theta, 4)
+            beta = ld_plus(theta - alpha, -1)
+            gamma = _HALF_PI
+        else:
+            if alpha < theta:
+                alpha = ld_plus(alpha, 4)
+            beta = ld_plus(alpha - theta, -1)
+            gamma = -_HALF_PI
+        end = (px + radius * math.cos(alpha + gamma), py + radius * math.sin(alpha + gamma))
+        mid_x = opx + radius * math.cos(alpha + gamma)
+        mid_y = opy + radius * math.sin(alpha + gamma)
+        concave = self._straight_concave(beta)
+        if not concave and beta > TOLERANCE_CONCAVE_CORNER:  # convex: an arc around
+            self.move_endpoint_and_flush(cx, cy)
+            if move == 10:
+                self.enqueue(self._qmove("arc", block, mid_x, mid_y, cz, abc, c1=opx, c2=opy,
+                                         turn=-1 if side == LEFT else 1))
+            else:  # no arc traverse: a traverse to the arc's end
+                self.enqueue(self._qmove("traverse", block, mid_x, mid_y, cz, abc))
+            self.dequeue()
+            self.set_endpoint(mid_x, mid_y)
+        elif concave:
+            front = self.queue_front()
+            if front is None or front.kind != "arc":
+                self._line_line_corner(beta, theta, gamma, cx, cy)
+            else:
+                self._arc_line_corner(front, px, py, opx, opy)
+        else:  # straight on, or a tangent arc to line
+            self.dequeue()
+            self.set_endpoint(cx, cy)
+        return end
+
+    def _straight_concave(self, beta: float) -> bool:
+        """Is the corner before a straight move concave? ``beta`` is its turn, radians (less
+        than 0 or more than pi: concave); near pi after an arc the tool stays outside ("h"
+        shape: above and beside rather than looping around)."""
+        side = self.s.comp_side
+        fbeta = Fraction(beta)
+        if beta < -TOLERANCE_CONCAVE_CORNER or fbeta > _PI_PLUS_SMALL:
+            return True
+        queue = self.out.queue
+        front = queue[0] if queue else None
+        return (fbeta > _PI_MINUS_SMALL and type(front) is QMove and front.kind == "arc"
+                and ((side == RIGHT and front.turn > 0) or (side == LEFT and front.turn < 0)))
 
     def _line_line_corner(self, beta: float, theta: float, gamma: float, cx: float,
                           cy: float) -> None:
@@ -500,13 +508,11 @@ class CompMixin:
     def arc_comp2(self, move, block, end_x, end_y, end_z, off1, off2, turns, abc) -> None:
         """A compensated arc after the entry: the arc about the same centre, one radius in
         or out, with a corner arc before it (convex) or the previous move cut short
-        (concave)."""
+        (concave). Plane coordinates, program units."""
         s = self.s
-        side = s.comp_side
         radius = s.comp_radius
         rtol, spiral = self._tolerances()
         opx, opy, opz = self.comp_programmed()
-        cx, cy, cz = self.comp_current()
         w = block.words
         if "r" in w:
             centerx, centery, turn = arc_data_r(move, opx, opy, end_x, end_y, w["r"], turns,
@@ -518,30 +524,43 @@ class CompMixin:
         self.inverse_time_arc(opx, opy, opz, centerx, centery, turn, end_x, end_y, end_z,
                               block)
         arc_radius = math.hypot(centerx - end_x, centery - end_y)
-        theta = math.atan2(cy - opy, cx - opx)
-        theta = ld_plus(theta, -1 if side == LEFT else 1)
-        delta = math.atan2(centery - opy, centerx - opx)
-        alpha = ld_plus(delta, -1 if move == 30 else 1)
-        beta = theta - alpha if side == LEFT else alpha - theta
-        fbeta = Fraction(beta)
-        if fbeta > _THREE_HALF_PI:
-            beta = ld_plus(beta, -4)
-        elif fbeta < -PI_2L:
-            beta = ld_plus(beta, 4)
-        fbeta = Fraction(beta)
-        if (side == LEFT and move == 30) or (side == RIGHT and move == 20):
-            gamma = math.atan2(centery - end_y, centerx - end_x)
+        if (s.comp_side == LEFT and move == 30) or (s.comp_side == RIGHT and move == 20):
+            gamma = math.atan2(centery - end_y, centerx - end_x)  # the tool inside
             if arc_radius <= radius:
                 raise NgcError("comp_tool_radius_arc")
         else:
             gamma = math.atan2(end_y - centery, end_x - centerx)
-            delta = ld_plus(delta, 2)
         new_end_x = end_x + radius * math.cos(gamma)
         new_end_y = end_y + radius * math.sin(gamma)
-        inside = _inside(side, turn)
-        sweep = find_turn(opx, opy, centerx, centery, turn, end_x, end_y)
+        self._arc_corner(move, block, centerx, centery, arc_radius, turn, abc)
+        self.enqueue(self._qmove("arc", block, new_end_x, new_end_y, end_z, abc, c1=centerx,
+                                 c2=centery, turn=turn,
+                                 sweep=find_turn(opx, opy, centerx, centery, turn, end_x, end_y)))
+        self.comp_set_programmed(end_x, end_y, end_z)
+        self.comp_set_current(new_end_x, new_end_y, end_z)
+        s.pos[3:6] = abc
+
+    def _arc_corner(self, move, block, centerx, centery, arc_radius, turn, abc) -> None:
+        """The corner before a compensated arc about (centerx, centery): concave (the
+        previous move cut short), convex (an arc around the programmed corner) or tangent."""
+        s = self.s
+        side = s.comp_side
+        radius = s.comp_radius
+        opx, opy, _ = self.comp_programmed()
+        cx, cy, cz = self.comp_current()
+        theta = ld_plus(math.atan2(cy - opy, cx - opx), -1 if side == LEFT else 1)
+        delta = math.atan2(centery - opy, centerx - opx)
+        alpha = ld_plus(delta, -1 if move == 30 else 1)  # the arc's direction at its start
+        beta = theta - alpha if side == LEFT else alpha - theta
+        if Fraction(beta) > _THREE_HALF_PI:
+            beta = ld_plus(beta, -4)
+        elif Fraction(beta) < -PI_2L:
+            beta = ld_plus(beta, 4)
+        fbeta = Fraction(beta)
+        if not ((side == LEFT and move == 30) or (side == RIGHT and move == 20)):
+            delta = ld_plus(delta, 2)
         if (beta < -TOLERANCE_CONCAVE_CORNER or fbeta > _PI_PLUS_SMALL
-                or (abs(round_ld(fbeta - PI_L)) < _SMALL and not inside)):
+                or (abs(round_ld(fbeta - PI_L)) < _SMALL and not _inside(side, turn))):
             front = self.queue_front()
             if front is not None and front.kind == "arc":
                 self._arc_arc_corner(front, centerx, centery, arc_radius, turn)
@@ -558,11 +577,6 @@ class CompMixin:
         else:  # tangent
             self.dequeue()
             self.set_endpoint(cx, cy)
-        self.enqueue(self._qmove("arc", block, new_end_x, new_end_y, end_z, abc, c1=centerx,
-                                 c2=centery, turn=turn, sweep=sweep))
-        self.comp_set_programmed(end_x, end_y, end_z)
-        self.comp_set_current(new_end_x, new_end_y, end_z)
-        s.pos[3:6] = abc
 
     def _line_arc_corner(self, centerx, centery, arc_radius, turn, beta, theta) -> None:
         """Concave corner from a line to an arc: the line ends where it meets the offset
