@@ -58,8 +58,24 @@ _PLANE_INDEX = {170: (0, 1, 2), 180: (2, 0, 1)}
 
 
 def ld_plus(x: float, pi_halves: int) -> float:
-    """``x + pi_halves * M_PI_2l`` in long double, stored to double."""
+    """``x + pi_halves * M_PI_2l`` in long double, stored to double (an infinity or NaN,
+    which huge coordinates can produce, stays what it is)."""
+    if not math.isfinite(x):
+        return x
     return float(round_ld(Fraction(x) + pi_halves * PI_2L))
+
+
+def exact(x: float) -> Fraction | float:
+    """A double as an exact rational for comparisons with long double constants; an
+    infinity or NaN stays a float (and compares as C compares it)."""
+    return Fraction(x) if math.isfinite(x) else x
+
+
+def _sinl_times(r: float, beta: float) -> float:
+    """``r * sin(beta - M_PI_2l)`` with x87 ``sinl``, stored to double."""
+    if not (math.isfinite(r) and math.isfinite(beta)):
+        return r * -math.cos(beta)
+    return float(round_ld(Fraction(r) * _sinl(round_ld(Fraction(beta) - PI_2L))))
 
 
 def _sinl(a: Fraction) -> Fraction:
@@ -67,6 +83,13 @@ def _sinl(a: Fraction) -> Fraction:
     k, r = _reduce(a, 1)
     sin, cos, one = _sin_cos(r)
     return round_ld(Fraction((sin, cos, -sin, -cos)[k % 4], one))
+
+
+def _c_int(x: float) -> int:
+    """C's ``(int)`` of a double on x86: truncated; out of range, INT_MIN."""
+    if -2147483648.0 <= x < 2147483648.0:
+        return int(x)
+    return -2147483648
 
 
 def _inside(side: int, turn: int) -> bool:
@@ -168,7 +191,7 @@ class CompMixin:
         else:
             index = 0
             if "d" in w:
-                tool = int(w["d"] + 0.5)
+                tool = _c_int(w["d"] + 0.5)
                 if abs(tool - w["d"]) >= 0.0001:
                     raise NgcError("comp_d_integer", code=name)
                 index = self.tool_index(tool)
@@ -396,7 +419,7 @@ class CompMixin:
         than 0 or more than pi: concave); near pi after an arc the tool stays outside ("h"
         shape: above and beside rather than looping around)."""
         side = self.s.comp_side
-        fbeta = Fraction(beta)
+        fbeta = exact(beta)
         if beta < -TOLERANCE_CONCAVE_CORNER or fbeta > _PI_PLUS_SMALL:
             return True
         queue = self.out.queue
@@ -408,7 +431,8 @@ class CompMixin:
                           cy: float) -> None:
         """Concave corner between two lines: the previous move ends where the two offset
         lines cross."""
-        half = float(round_ld(Fraction(beta) + PI_L) / 2)
+        half = ld_plus(beta, 2) if not math.isfinite(beta) else float(
+            round_ld(Fraction(beta) + PI_L) / 2)
         if half == 0.0:
             raise NgcError("comp_zero_corner")
         retreat = self.s.comp_radius / math.tan(half)
@@ -552,15 +576,16 @@ class CompMixin:
         delta = math.atan2(centery - opy, centerx - opx)
         alpha = ld_plus(delta, -1 if move == 30 else 1)  # the arc's direction at its start
         beta = theta - alpha if side == LEFT else alpha - theta
-        if Fraction(beta) > _THREE_HALF_PI:
+        if exact(beta) > _THREE_HALF_PI:
             beta = ld_plus(beta, -4)
-        elif Fraction(beta) < -PI_2L:
+        elif exact(beta) < -PI_2L:
             beta = ld_plus(beta, 4)
-        fbeta = Fraction(beta)
+        fbeta = exact(beta)
+        near_pi = type(fbeta) is Fraction and abs(round_ld(fbeta - PI_L)) < _SMALL
         if not ((side == LEFT and move == 30) or (side == RIGHT and move == 20)):
             delta = ld_plus(delta, 2)
         if (beta < -TOLERANCE_CONCAVE_CORNER or fbeta > _PI_PLUS_SMALL
-                or (abs(round_ld(fbeta - PI_L)) < _SMALL and not _inside(side, turn))):
+                or (near_pi and not _inside(side, turn))):
             front = self.queue_front()
             if front is not None and front.kind == "arc":
                 self._arc_arc_corner(front, centerx, centery, arc_radius, turn)
@@ -583,7 +608,7 @@ class CompMixin:
         arc."""
         s = self.s
         radius = s.comp_radius
-        offset = float(round_ld(Fraction(arc_radius) * _sinl(round_ld(Fraction(beta) - PI_2L))))
+        offset = _sinl_times(arc_radius, beta)
         if _inside(s.comp_side, turn):
             dist = arc_radius - radius
             ratio = (offset + radius) / dist
@@ -595,9 +620,11 @@ class CompMixin:
             ratio = (offset - radius) / dist
             if ratio > 1.0 or ratio < -1.0:
                 raise NgcError("comp_arc_concave")
-            base = round_ld(Fraction(theta) + PI_L)
             turned = -math.asin(ratio) if turn > 0 else math.asin(ratio)
-            angle = float(round_ld(base + Fraction(turned)))
+            if math.isfinite(theta) and math.isfinite(turned):
+                angle = float(round_ld(round_ld(Fraction(theta) + PI_L) + Fraction(turned)))
+            else:
+                angle = theta + math.pi + turned
         self.move_endpoint_and_flush(centerx + dist * math.cos(angle),
                                      centery + dist * math.sin(angle))
 

@@ -218,6 +218,15 @@ def _plane_coords(plane: int, p: list[float]) -> tuple[float, float, float]:
     return p[0], p[1], p[2]
 
 
+def c_divide(a: float, b: float) -> float:
+    """``a / b`` as C divides doubles: by zero it gives an infinity or NaN, no exception."""
+    if b == 0.0:
+        if a == 0.0 or a != a:
+            return math.nan
+        return math.copysign(math.inf, a) * math.copysign(1.0, b)
+    return a / b
+
+
 def arc_data_r(move, x1, y1, x2, y2, radius, turns, tolerance):
     """Centre of an R-format arc (interp_arc.cc arc_data_r)."""
     if x2 == x1 and y2 == y1:
@@ -228,13 +237,13 @@ def arc_data_r(move, x1, y1, x2, y2, radius, turns, tolerance):
     half_length = math.hypot(mid_x - x2, mid_y - y2)
     if half_length - abs_radius > tolerance:
         raise NgcError("arc_radius_too_small")
-    if half_length / abs_radius > (1 - TINY):
+    if c_divide(half_length, abs_radius) > (1 - TINY):
         half_length = abs_radius
     if (move == 20 and radius > 0) or (move == 30 and radius < 0):
         theta = minus_half_pi(math.atan2(y2 - y1, x2 - x1))
     else:
         theta = plus_half_pi(math.atan2(y2 - y1, x2 - x1))
-    turn2 = math.asin(half_length / abs_radius)
+    turn2 = math.asin(c_divide(half_length, abs_radius))  # R0: NaN, as in LinuxCNC
     offset = abs_radius * math.cos(turn2)
     return (mid_x + offset * math.cos(theta), mid_y + offset * math.sin(theta),
             -turns if move == 20 else turns)

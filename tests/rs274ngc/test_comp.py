@@ -5,9 +5,14 @@ The traces themselves are compared with rs274 by ``test_golden.py`` (``comp_*.ng
 
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 
-from interpreters.rs274ngc import check, run
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from interpreters.rs274ngc import FORMATS, check, run
+from interpreters.rs274ngc.diag import MESSAGES
 from vmach.canon import Comment, LinearFeed
 
 FIXTURES = Path(__file__).resolve().parents[2] / "fixtures" / "rs274ngc"
@@ -47,3 +52,44 @@ def test_error_stops_with_the_queue_unprinted(tmp_path):
     # each concave corner released the move before it; the move to X0.9 was still held
     # back when the corner after it failed: it is never emitted
     assert [c.source.line for c in result.commands if isinstance(c, LinearFeed)] == [3, 4]
+
+
+_values = st.sampled_from(["0", "1", "-1", "0.0001", "0.5", "2", "0.0625", "0.06250001",
+                           "[1/3]", "[10**300]", "[-10**300]", "[10**-300]", "1000000"])
+_moves = st.one_of(
+    st.sampled_from(["G41", "G42", "G40", "G41 D2", "G42 D0", "M0", "G20", "G21", "(c)",
+                     "G91", "G90", "M3 S100", "G4 P1"]),
+    st.tuples(st.sampled_from(["G41.1", "G42.1"]), _values).map(lambda t: f"{t[0]} D{t[1]}"),
+    st.tuples(st.sampled_from(["G0", "G1"]), _values, _values, _values).map(
+        lambda t: "{} X{} Y{} Z{}".format(*t)),
+    st.tuples(st.sampled_from(["G2", "G3"]), _values, _values, _values).map(
+        lambda t: "{} X{} Y{} R{}".format(*t)),
+    st.tuples(st.sampled_from(["G2", "G3"]), _values, _values, _values, _values).map(
+        lambda t: "{} X{} Y{} I{} J{}".format(*t)),
+)
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.sampled_from(["G17", "G18"]), st.lists(_moves, max_size=14))
+def test_compensated_moves_give_only_own_diagnostics(plane, moves):
+    """Whatever the moves (huge, tiny, degenerate), compensation ends in a trace or one of
+    the dialect's own errors, never a Python exception."""
+    text = "\n".join(["G20 " + plane, "T1 M6", "F10", *moves, "M2"]) + "\n"
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "comp.ngc"
+        path.write_text(text, encoding="utf-8")
+        result = run(path)
+        lines, traced = FORMATS["rs274"](path, None, None, {})
+    assert traced.completed == result.completed
+    for f in result.findings:
+        assert f.kind in MESSAGES, f.render()
+
+
+def test_zero_radius_r_arc_within_tolerance_has_a_nan_centre(tmp_path):
+    """``G2 ... R0`` to a point closer than the radius tolerance: LinuxCNC divides 0 by 0
+    and prints a NaN centre (it was a ZeroDivisionError here)."""
+    path = tmp_path / "r0.ngc"
+    path.write_text("G20\nF10\nG0 X0 Y0\nG2 X0.00001 Y0 R0\nG1 X1\nM2\n", encoding="utf-8")
+    lines, result = FORMATS["rs274"](path, None, None, {})
+    assert result.completed
+    assert "ARC_FEED(0.0000, 0.0000, nan, nan, -1," in lines[9]
