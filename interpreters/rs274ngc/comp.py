@@ -28,7 +28,7 @@ from fractions import Fraction
 
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.diag import NgcError
-from interpreters.rs274ngc.longdouble import PI_2L, PI_L, _reduce, _sin_cos, round_ld
+from interpreters.rs274ngc.longdouble import PI_2L, PI_L, round_ld, sin_ld
 from interpreters.rs274ngc.motion import (
     CENTER_ARC_RADIUS_TOLERANCE_INCH,
     CENTER_ARC_RADIUS_TOLERANCE_MM,
@@ -41,7 +41,7 @@ from interpreters.rs274ngc.motion import (
 
 LEFT = 1
 RIGHT = 2
-#: radians: corners turning by less than this are straight, concave beyond it
+#: radians: a corner turning by less than this counts as straight on
 TOLERANCE_CONCAVE_CORNER = 0.05
 TOLERANCE_EQUAL = 0.0001
 _SMALL = Fraction(TOLERANCE_CONCAVE_CORNER)
@@ -75,14 +75,7 @@ def _sinl_times(r: float, beta: float) -> float:
     """``r * sin(beta - M_PI_2l)`` with x87 ``sinl``, stored to double."""
     if not (math.isfinite(r) and math.isfinite(beta)):
         return r * -math.cos(beta)
-    return float(round_ld(Fraction(r) * _sinl(round_ld(Fraction(beta) - PI_2L))))
-
-
-def _sinl(a: Fraction) -> Fraction:
-    """``sinl`` of a long double argument (radians), rounded to long double."""
-    k, r = _reduce(a, 1)
-    sin, cos, one = _sin_cos(r)
-    return round_ld(Fraction((sin, cos, -sin, -cos)[k % 4], one))
+    return float(round_ld(Fraction(r) * sin_ld(round_ld(Fraction(beta) - PI_2L))))
 
 
 def _c_int(x: float) -> int:

@@ -90,6 +90,13 @@ def cos_deg(x: float) -> float:
     return (cos, -sin, -cos, sin)[k % 4] / one
 
 
+def sin_ld(a: Fraction) -> Fraction:
+    """``sinl(a)`` of a long double ``a`` (radians), rounded to long double."""
+    k, r = _reduce(a, 1)
+    sin, cos, one = _sin_cos(r)
+    return round_ld(Fraction((sin, cos, -sin, -cos)[k % 4], one))
+
+
 def tan_deg(x: float) -> float:
     if not math.isfinite(x):
         return math.nan

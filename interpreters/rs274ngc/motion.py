@@ -199,7 +199,6 @@ class MotionMixin:
         self.out.arc_feed(plane, e1, e2, cx, cy, turn, e3, end[3:6], self.feed_for_output(block))
         s.pos = end
 
-
     def inverse_time_arc(self, c1, c2, c3, cx, cy, turn, e1, e2, e3, block: blk.Block) -> None:
         """inverse_time_rate_arc: in G93 the feed rate of an arc from (c1, c2, c3) about
         (cx, cy) to (e1, e2, e3), plane coordinates."""
