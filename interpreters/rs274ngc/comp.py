@@ -28,7 +28,7 @@ from fractions import Fraction
 
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.diag import NgcError
-from interpreters.rs274ngc.longdouble import PI_2L, PI_L, round_ld, sin_ld
+from interpreters.rs274ngc.longdouble import PI_2L, PI_L, plus_pi_halves, round_ld, sin_ld
 from interpreters.rs274ngc.motion import (
     CENTER_ARC_RADIUS_TOLERANCE_INCH,
     CENTER_ARC_RADIUS_TOLERANCE_MM,
@@ -45,10 +45,54 @@ RIGHT = 2
 TOLERANCE_CONCAVE_CORNER = 0.05
 TOLERANCE_EQUAL = 0.0001
 _SMALL = Fraction(TOLERANCE_CONCAVE_CORNER)
-_PI_PLUS_SMALL = round_ld(PI_L + _SMALL)
-_PI_MINUS_SMALL = round_ld(PI_L - _SMALL)
-_THREE_HALF_PI = round_ld(PI_L * 3 / 2)
 _HALF_PI = float(PI_2L)  # M_PI_2l stored in a double
+
+
+class LdConstant:
+    """A long double constant compared exactly with doubles (as C compares a double with a
+    long double); the doubles next to it decide most comparisons without rationals."""
+
+    __slots__ = ("value", "lo", "hi")
+
+    def __init__(self, value: Fraction):
+        self.value = value
+        near = float(value)
+        self.lo = math.nextafter(near, -math.inf)
+        self.hi = math.nextafter(near, math.inf)
+
+    def less_than(self, x: float) -> bool:
+        """``constant < x`` (False for NaN)."""
+        if x > self.hi:
+            return True
+        if x < self.lo or x != x:
+            return False
+        return Fraction(x) > self.value
+
+    def greater_than(self, x: float) -> bool:
+        """``constant > x`` (False for NaN)."""
+        if x < self.lo:
+            return True
+        if x > self.hi or x != x:
+            return False
+        return Fraction(x) < self.value
+
+
+_PI_PLUS_SMALL = LdConstant(round_ld(PI_L + _SMALL))
+_PI_MINUS_SMALL = LdConstant(round_ld(PI_L - _SMALL))
+_THREE_HALF_PI = LdConstant(round_ld(PI_L * 3 / 2))
+_MINUS_HALF_PI = LdConstant(-PI_2L)
+
+
+def _near_pi(beta: float) -> bool:
+    """``fabs(beta - M_PIl) < TOLERANCE_CONCAVE_CORNER`` in long double."""
+    if not math.isfinite(beta):
+        return False
+    gap = abs(beta - math.pi)
+    if gap < TOLERANCE_CONCAVE_CORNER - 1e-9:
+        return True
+    if gap > TOLERANCE_CONCAVE_CORNER + 1e-9:
+        return False
+    return abs(round_ld(Fraction(beta) - PI_L)) < _SMALL
 
 # plane -> indices of (p1, p2, p3) in x y z
 _PLANE_INDEX = {170: (0, 1, 2), 180: (2, 0, 1)}
@@ -62,13 +106,7 @@ def ld_plus(x: float, pi_halves: int) -> float:
     which huge coordinates can produce, stays what it is)."""
     if not math.isfinite(x):
         return x
-    return float(round_ld(Fraction(x) + pi_halves * PI_2L))
-
-
-def exact(x: float) -> Fraction | float:
-    """A double as an exact rational for comparisons with long double constants; an
-    infinity or NaN stays a float (and compares as C compares it)."""
-    return Fraction(x) if math.isfinite(x) else x
+    return plus_pi_halves(x, pi_halves)
 
 
 def _sinl_times(r: float, beta: float) -> float:
@@ -412,12 +450,11 @@ class CompMixin:
         than 0 or more than pi: concave); near pi after an arc the tool stays outside ("h"
         shape: above and beside rather than looping around)."""
         side = self.s.comp_side
-        fbeta = exact(beta)
-        if beta < -TOLERANCE_CONCAVE_CORNER or fbeta > _PI_PLUS_SMALL:
+        if beta < -TOLERANCE_CONCAVE_CORNER or _PI_PLUS_SMALL.less_than(beta):
             return True
         queue = self.out.queue
         front = queue[0] if queue else None
-        return (fbeta > _PI_MINUS_SMALL and type(front) is QMove and front.kind == "arc"
+        return (_PI_MINUS_SMALL.less_than(beta) and type(front) is QMove and front.kind == "arc"
                 and ((side == RIGHT and front.turn > 0) or (side == LEFT and front.turn < 0)))
 
     def _line_line_corner(self, beta: float, theta: float, gamma: float, cx: float,
@@ -569,16 +606,14 @@ class CompMixin:
         delta = math.atan2(centery - opy, centerx - opx)
         alpha = ld_plus(delta, -1 if move == 30 else 1)  # the arc's direction at its start
         beta = theta - alpha if side == LEFT else alpha - theta
-        if exact(beta) > _THREE_HALF_PI:
+        if _THREE_HALF_PI.less_than(beta):
             beta = ld_plus(beta, -4)
-        elif exact(beta) < -PI_2L:
+        elif _MINUS_HALF_PI.greater_than(beta):
             beta = ld_plus(beta, 4)
-        fbeta = exact(beta)
-        near_pi = type(fbeta) is Fraction and abs(round_ld(fbeta - PI_L)) < _SMALL
         if not ((side == LEFT and move == 30) or (side == RIGHT and move == 20)):
             delta = ld_plus(delta, 2)
-        if (beta < -TOLERANCE_CONCAVE_CORNER or fbeta > _PI_PLUS_SMALL
-                or (near_pi and not _inside(side, turn))):
+        if (beta < -TOLERANCE_CONCAVE_CORNER or _PI_PLUS_SMALL.less_than(beta)
+                or (_near_pi(beta) and not _inside(side, turn))):
             front = self.queue_front()
             if front is not None and front.kind == "arc":
                 self._arc_arc_corner(front, centerx, centery, arc_radius, turn)

@@ -5,14 +5,18 @@ The traces themselves are compared with rs274 by ``test_golden.py`` (``comp_*.ng
 
 from __future__ import annotations
 
+import math
 import tempfile
+from fractions import Fraction
 from pathlib import Path
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from interpreters.rs274ngc import FORMATS, check, run
+from interpreters.rs274ngc.comp import LdConstant
 from interpreters.rs274ngc.diag import MESSAGES
+from interpreters.rs274ngc.longdouble import PI_2L, PI_L, plus_pi_halves, round_ld
 from vmach.canon import Comment, LinearFeed
 
 FIXTURES = Path(__file__).resolve().parents[2] / "fixtures" / "rs274ngc"
@@ -93,3 +97,28 @@ def test_zero_radius_r_arc_within_tolerance_has_a_nan_centre(tmp_path):
     lines, result = FORMATS["rs274"](path, None, None, {})
     assert result.completed
     assert "ARC_FEED(0.0000, 0.0000, nan, nan, -1," in lines[9]
+
+
+@settings(max_examples=2000, deadline=None)
+@given(st.one_of(st.floats(-10, 10, allow_nan=False),
+                 st.sampled_from([0.0, -0.0, math.pi, -math.pi, math.pi / 2, 5e-324, -1e-300])),
+       st.sampled_from([-4, -2, -1, 1, 2, 4]))
+def test_plus_pi_halves_is_the_long_double_sum(x, k):
+    """The integer shortcut gives what rationals give for ``x + k * M_PI_2l``."""
+    assert plus_pi_halves(x, k) == float(round_ld(Fraction(x) + k * PI_2L))
+
+
+@settings(max_examples=2000, deadline=None)
+@given(st.one_of(st.floats(-7, 7, allow_nan=False),
+                 st.sampled_from([math.pi + 0.05, math.pi - 0.05, 1.5 * math.pi, -math.pi / 2]),
+                 st.sampled_from([math.nan, math.inf, -math.inf])))
+def test_long_double_constants_compare_exactly(x):
+    for value in (round_ld(PI_L + Fraction(0.05)), round_ld(PI_L * 3 / 2), -PI_2L):
+        c = LdConstant(value)
+        if math.isnan(x):
+            assert not c.less_than(x) and not c.greater_than(x)
+        elif math.isinf(x):
+            assert c.less_than(x) == (x > 0) and c.greater_than(x) == (x < 0)
+        else:
+            assert c.less_than(x) == (value < Fraction(x))
+            assert c.greater_than(x) == (value > Fraction(x))
