@@ -31,6 +31,8 @@ class CycleMixin:
     def convert_cycle(self, motion: int, block: blk.Block) -> None:
         s = self.s
         w = block.words
+        if s.comp_side:
+            raise NgcError("comp_cycle")
         if s.feed == 0.0:
             raise NgcError("cycle_zero_feed")
         if s.feed_mode == 1:

@@ -188,6 +188,8 @@ class ExecuteMixin:
             out.coolant(mist=False, flood=False)
             s.mist = s.flood = False
         code = m.get(9)
+        if code is not None and s.comp_side:
+            raise NgcError("comp_overrides_on" if code == 48 else "comp_overrides_off")
         if code == 48:
             out.overrides(True)
             s.feed_override = s.speed_override = True
@@ -207,6 +209,11 @@ class ExecuteMixin:
             out.dwell(block.p)
         code = g.get(2)
         if code is not None:
+            if s.comp_side:
+                if code != s.plane:
+                    raise NgcError("comp_plane")
+                if code == 190:
+                    raise NgcError("comp_plane_xy_xz")
             out.select_plane(code)
             s.plane = code
         code = g.get(6)
@@ -214,7 +221,7 @@ class ExecuteMixin:
             self.convert_length_units(code == 210)
         code = g.get(7)
         if code is not None:
-            out.comment("interpreter: cutter radius compensation off")
+            self.convert_cutter_compensation(code, block)
         code = g.get(8)
         if code is not None:
             self.convert_tool_length_offset(code, block)
@@ -242,6 +249,8 @@ class ExecuteMixin:
                 s.ijk_absolute = False
         code = g.get(10)
         if code is not None:
+            if s.comp_side:
+                raise NgcError("comp_retract_mode")
             if code == 980:
                 out.comment("interpreter: retract mode set to old_z")
                 s.retract_r = False
@@ -250,8 +259,8 @@ class ExecuteMixin:
                 s.retract_r = True
         if mode0 != -1:
             self.convert_modal_0(mode0, block)
-        code = g.get(11)  # G92.1 G92.2 G92.3
-        if code is not None:
+        code = g.get(11)  # G92.1 G92.2 G92.3 (LinuxCNC 2.9 skips them with compensation on)
+        if code is not None and not s.comp_side:
             self.convert_axis_offsets(code, block)
         if block.motion != -1:
             self.convert_motion(block.motion, block)
@@ -259,6 +268,8 @@ class ExecuteMixin:
     def convert_control_mode(self, code: int, block: blk.Block) -> None:
         s = self.s
         out = self.out
+        if s.comp_side:
+            raise NgcError("comp_control_mode")
         if code == 610:
             out.set_motion_control_mode("exact_path")
             s.control = "exact_path"
@@ -285,9 +296,11 @@ class ExecuteMixin:
         # re-read from the (saicanon) machine, which keeps them unconverted.
         f = 25.4 if metric else 1.0 / 25.4
         s.metric = metric
-        for lst in (s.pos, s.axis_offset, s.origin):
+        for lst in (s.pos, s.comp_program, s.axis_offset, s.origin):
             for i in range(3):
                 lst[i] *= f
+        s.comp_radius *= f
+        self.comp_scale(f)
 
     # -- stopping ---------------------------------------------------------------------------------
 
@@ -295,6 +308,9 @@ class ExecuteMixin:
         code = block.m[4]
         out = self.out
         s = self.s
+        cx, cy, _ = self.comp_current() if s.plane in (170, 180) else (0.0, 0.0, 0.0)
+        self.move_endpoint_and_flush(cx, cy)
+        self.dequeue()
         if code == 0:
             out.program_stop(False)
             return None
@@ -332,6 +348,8 @@ class ExecuteMixin:
             out.simple("ENABLE_FEED_OVERRIDE")
             s.feed_override = True
         s.speed_override = True  # LinuxCNC 2.9 re-enables only the feed override here
+        s.comp_side = 0
+        s.comp_first = True
         out.spindle("stop")
         s.spindle = "stop"
         out.set_spindle_mode()

@@ -102,7 +102,7 @@ class FastPathMixin:
         minute. Same effect as :meth:`step`; returns False, before doing anything, when the
         block or the state needs the general path."""
         s = self.s
-        if s.feed_mode or s.incremental or s.toolchange_flag:
+        if s.feed_mode or s.incremental or s.toolchange_flag or s.comp_side or s.arc_not_allowed:
             return False
         motion, words = fast
         if self.strict and not self.known_words.issuperset(words):
@@ -209,7 +209,8 @@ class FastPathMixin:
         """
         s = self.s
         out = self.out
-        if s.feed_mode or s.incremental or s.toolchange_flag or out.spindle_dirty:
+        if (s.feed_mode or s.incremental or s.toolchange_flag or out.spindle_dirty or s.comp_side
+                or s.arc_not_allowed):
             return 0
         # axes a strict machine does not have: such a line is left to the general path
         known = self.known_words if self.strict else "xyzabc"

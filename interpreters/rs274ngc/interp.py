@@ -14,6 +14,7 @@ import gc
 from pathlib import Path
 
 from interpreters.rs274ngc import block as blk
+from interpreters.rs274ngc.comp import CompMixin
 from interpreters.rs274ngc.cycles import CycleMixin
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.execute import ExecuteMixin
@@ -85,7 +86,8 @@ def load_program(path: str) -> Program:
     return Program(path, data.decode("utf-8", errors="replace"))
 
 
-class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixin, OffsetMixin):
+class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin, CycleMixin,
+                  OffsetMixin):
     """One run of one program."""
 
     #: take the fast paths (:mod:`interpreters.rs274ngc.fastpath`); False runs every line
@@ -116,6 +118,9 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CycleMixi
         self.known_axes = {a.name for a in control.axes}
         #: the words of a simple line a strict machine accepts: its axes and F
         self.known_words = frozenset(c for c in "xyzabcf" if c == "f" or c.upper() in self.known_axes)
+        self.comp_endpoint = (0.0, 0.0)  # interp_queue.cc's endpoint (comp.py)
+        self.comp_endpoint_valid = False
+        self.comp_stale_front = None  # what qc().front() reads once the queue is empty
         self.init_flow()
 
     # -- evaluation context (see expr.py) ----------------------------------------------------
@@ -338,7 +343,7 @@ PREDEFINED = {
     "_line": lambda it: it.index + 1,
     "_motion_mode": lambda it: it.s.motion,
     "_plane": lambda it: it.s.plane,
-    "_ccomp": lambda it: 400,
+    "_ccomp": lambda it: (400, 410, 420)[it.s.comp_side],
     "_metric": lambda it: it.s.metric,
     "_imperial": lambda it: not it.s.metric,
     "_absolute": lambda it: not it.s.incremental,

@@ -90,6 +90,13 @@ def cos_deg(x: float) -> float:
     return (cos, -sin, -cos, sin)[k % 4] / one
 
 
+def sin_ld(a: Fraction) -> Fraction:
+    """``sinl(a)`` of a long double ``a`` (radians), rounded to long double."""
+    k, r = _reduce(a, 1)
+    sin, cos, one = _sin_cos(r)
+    return round_ld(Fraction((sin, cos, -sin, -cos)[k % 4], one))
+
+
 def tan_deg(x: float) -> float:
     if not math.isfinite(x):
         return math.nan
@@ -128,6 +135,42 @@ def _sin_cos(x: Fraction) -> tuple[int, int, int]:
         n += 1
         term = (term * xs >> bits) // n
     return sin, cos, 1 << bits
+
+
+_PI_HALVES: dict[int, tuple[int, int]] = {}
+
+
+def plus_pi_halves(x: float, k: int) -> float:
+    """``x + k * M_PI_2l`` in long double, stored to double (``x`` finite).
+
+    The same as ``float(round_ld(Fraction(x) + k * PI_2L))``, in integers: both terms are
+    dyadic, so the sum is exact as an integer over a power of two; it is rounded to a 64-bit
+    mantissa (ties to even), and the quotient to double by Python's correctly rounded
+    integer division."""
+    c = _PI_HALVES.get(k)
+    if c is None:
+        q = k * PI_2L
+        c = _PI_HALVES[k] = (q.numerator, q.denominator.bit_length() - 1)
+    cn, ce = c
+    n, d = x.as_integer_ratio()
+    e = d.bit_length() - 1
+    big = max(e, ce)
+    t = (n << (big - e)) + (cn << (big - ce))
+    if t == 0:
+        return 0.0
+    negative = t < 0
+    if negative:
+        t = -t
+    extra = t.bit_length() - 64
+    if extra > 0:
+        m = t >> extra
+        rest = t - (m << extra)
+        half = 1 << (extra - 1)
+        if rest > half or (rest == half and m & 1):
+            m += 1
+        t = m << extra
+    v = t / (1 << big)
+    return -v if negative else v
 
 
 def to_degrees(radians: float) -> float:

@@ -43,6 +43,16 @@ class MotionMixin:
             for i, letter in ((3, "a"), (4, "b"), (5, "c")):
                 end.append(w[letter] - s.origin[i] - s.axis_offset[i] if letter in w else pos[i])
             return end
+        if s.comp_side and not s.comp_first:
+            # with cutter compensation, unnamed and incremental axes of the plane start from
+            # the programmed point, not from the compensated tool position (X in both
+            # planes, Y in XY, Z in XZ)
+            pos = list(pos)
+            pos[0] = s.comp_program[0]
+            if s.plane == 170:
+                pos[1] = s.comp_program[1]
+            elif s.plane == 180:
+                pos[2] = s.comp_program[2]
         if s.incremental:
             return [pos[0] + w.get("x", 0.0), pos[1] + w.get("y", 0.0), pos[2] + w.get("z", 0.0),
                     pos[3] + w.get("a", 0.0), pos[4] + w.get("b", 0.0), pos[5] + w.get("c", 0.0)]
@@ -82,20 +92,36 @@ class MotionMixin:
                     raise NgcError("zero_spindle_feed_per_rev")
             elif "f" not in block.words:
                 raise NgcError("inverse_time_g1_feed")
+        s.arc_not_allowed = False
         s.motion = move
         end = self.find_ends(block)
+        if move == 10 and s.feed_mode == 1:
+            pos = s.pos
+            if s.comp_side and not s.comp_first:  # measured along the programmed path
+                pos = s.comp_program + pos[3:6]
+            if any(abs(pos[i] - end[i]) > 1e-7 for i in range(3)):
+                length = math.sqrt(sum((end[i] - pos[i]) ** 2 for i in range(3)))
+            else:
+                length = math.sqrt(sum((end[i] - pos[i]) ** 2 for i in (3, 4, 5)))
+            self._inverse_rate(length, block)
+        if s.comp_side and s.comp_radius > 0.0:
+            if block.g.get(0) == 530:
+                raise NgcError("comp_g53")
+            self.straight_compensated(move, block, end)
+            return
         if move == 10:
-            if s.feed_mode == 1:
-                pos = s.pos
-                if any(abs(pos[i] - end[i]) > 1e-7 for i in range(3)):
-                    length = math.sqrt(sum((end[i] - pos[i]) ** 2 for i in range(3)))
-                else:
-                    length = math.sqrt(sum((end[i] - pos[i]) ** 2 for i in (3, 4, 5)))
-                self._inverse_rate(length, block)
             self.out.straight_feed(end, self.feed_for_output(block))
         else:
             self.out.straight_traverse(end)
         s.pos = end
+
+    def straight_compensated(self, move: int, block: blk.Block, end: list[float]) -> None:
+        """G0/G1 with cutter radius compensation: the entry move or a later one."""
+        p1, p2, p3 = _plane_coords(self.s.plane, end)
+        if self.s.comp_first:
+            self.straight_comp1(move, block, p1, p2, p3, end[3:6])
+        else:
+            self.straight_comp2(move, block, p1, p2, p3, end[3:6])
 
     def _inverse_rate(self, length: float, block: blk.Block) -> None:
         rate = max(0.1, length * block.words["f"])
@@ -107,6 +133,8 @@ class MotionMixin:
     def convert_arc(self, move: int, block: blk.Block) -> None:
         s = self.s
         w = block.words
+        if s.arc_not_allowed:
+            raise NgcError("comp_arc_after_exit")
         ijk = "i" in w or "j" in w or "k" in w
         if "r" not in w and not ijk:
             raise NgcError("arc_words_missing")
@@ -156,18 +184,46 @@ class MotionMixin:
             rtol, spiral = RADIUS_TOLERANCE_MM, CENTER_ARC_RADIUS_TOLERANCE_MM
         else:
             rtol, spiral = RADIUS_TOLERANCE_INCH, CENTER_ARC_RADIUS_TOLERANCE_INCH
+        if s.comp_side and s.comp_radius > 0.0 and plane != 190:
+            if s.comp_first:
+                self.arc_comp1(move, block, e1, e2, e3, off1, off2, turns, end[3:6])
+            else:
+                self.arc_comp2(move, block, e1, e2, e3, off1, off2, turns, end[3:6])
+            return
         if "r" in w:
             cx, cy, turn = arc_data_r(move, c1, c2, e1, e2, w["r"], turns, rtol)
         else:
             cx, cy, turn = arc_data_ijk(move, plane, c1, c2, e1, e2, s.ijk_absolute, off1, off2,
                                         turns, rtol, spiral)
-        if s.feed_mode == 1:
-            radius = math.hypot(cx - c1, cy - c2)
-            theta = find_turn(c1, c2, cx, cy, turn, e1, e2)
-            length = radius * abs(theta) if e3 == c3 else math.hypot(radius * theta, e3 - c3)
-            self._inverse_rate(length, block)
+        self.inverse_time_arc(c1, c2, c3, cx, cy, turn, e1, e2, e3, block)
         self.out.arc_feed(plane, e1, e2, cx, cy, turn, e3, end[3:6], self.feed_for_output(block))
         s.pos = end
+
+    def inverse_time_arc(self, c1, c2, c3, cx, cy, turn, e1, e2, e3, block: blk.Block) -> None:
+        """inverse_time_rate_arc: in G93 the feed rate of an arc from (c1, c2, c3) about
+        (cx, cy) to (e1, e2, e3), plane coordinates."""
+        if self.s.feed_mode != 1:
+            return
+        radius = math.hypot(cx - c1, cy - c2)
+        theta = find_turn(c1, c2, cx, cy, turn, e1, e2)
+        length = radius * abs(theta) if e3 == c3 else math.hypot(radius * theta, e3 - c3)
+        self._inverse_rate(length, block)
+
+
+def _plane_coords(plane: int, p: list[float]) -> tuple[float, float, float]:
+    """x y z -> the (first, second, normal) coordinates of the plane."""
+    if plane == 180:
+        return p[2], p[0], p[1]
+    return p[0], p[1], p[2]
+
+
+def c_divide(a: float, b: float) -> float:
+    """``a / b`` as C divides doubles: by zero it gives an infinity or NaN, no exception."""
+    if b == 0.0:
+        if a == 0.0 or a != a:
+            return math.nan
+        return math.copysign(math.inf, a) * math.copysign(1.0, b)
+    return a / b
 
 
 def arc_data_r(move, x1, y1, x2, y2, radius, turns, tolerance):
@@ -180,13 +236,13 @@ def arc_data_r(move, x1, y1, x2, y2, radius, turns, tolerance):
     half_length = math.hypot(mid_x - x2, mid_y - y2)
     if half_length - abs_radius > tolerance:
         raise NgcError("arc_radius_too_small")
-    if half_length / abs_radius > (1 - TINY):
+    if c_divide(half_length, abs_radius) > (1 - TINY):
         half_length = abs_radius
     if (move == 20 and radius > 0) or (move == 30 and radius < 0):
         theta = minus_half_pi(math.atan2(y2 - y1, x2 - x1))
     else:
         theta = plus_half_pi(math.atan2(y2 - y1, x2 - x1))
-    turn2 = math.asin(half_length / abs_radius)
+    turn2 = math.asin(c_divide(half_length, abs_radius))  # R0: NaN, as in LinuxCNC
     offset = abs_radius * math.cos(turn2)
     return (mid_x + offset * math.cos(theta), mid_y + offset * math.sin(theta),
             -turns if move == 20 else turns)

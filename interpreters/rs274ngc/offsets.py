@@ -37,6 +37,8 @@ class OffsetMixin:
         out = self.out
         if s.selected_pocket < 0:
             raise NgcError("m6_without_tool")
+        if s.comp_side:
+            raise NgcError("comp_tool_change")
         out.simple("START_CHANGE")
         out.spindle("stop")
         s.spindle = "stop"
@@ -71,6 +73,8 @@ class OffsetMixin:
 
     def convert_tool_length_offset(self, code: int, block: blk.Block) -> None:
         s = self.s
+        if s.comp_side:
+            raise NgcError("comp_tool_offset")
         if code == 490:
             index = 0
             h = 0
@@ -117,6 +121,8 @@ class OffsetMixin:
     def convert_coordinate_system(self, code: int) -> None:
         s = self.s
         out = self.out
+        if s.comp_side:
+            raise NgcError("comp_coord_system")
         origin = _G5X[code]
         if origin == s.origin_index:
             out.comment("interpreter: continuing to use same coordinate system")
@@ -158,6 +164,8 @@ class OffsetMixin:
         system = int(block.p + 0.0001)
         if system == 0:
             system = s.origin_index
+        if s.comp_side and system == s.origin_index:
+            raise NgcError("comp_active_system")
         l20 = block.l == 20
         cur = self.current_in_system(system)
         base = 5200 + system * 20
@@ -290,6 +298,8 @@ class OffsetMixin:
     def convert_home(self, code: int, block: blk.Block) -> None:
         s = self.s
         end = self.find_ends(block)
+        if s.comp_side:
+            raise NgcError("comp_home")
         self.out.straight_traverse(end)
         s.pos = list(end)
         base = 5161 if code == 280 else 5181
@@ -308,6 +318,8 @@ class OffsetMixin:
 
     def convert_savehome(self, code: int) -> None:
         s = self.s
+        if s.comp_side:
+            raise NgcError("comp_savehome")
         v = [s.pos[i] + s.axis_offset[i] for i in range(6)]
         v[0], v[1] = rotate(v[0], v[1], s.rotation)
         for i in range(6):
@@ -319,6 +331,8 @@ class OffsetMixin:
 
     def convert_axis_offsets(self, code: int, block: blk.Block) -> None:
         s = self.s
+        if s.comp_side:
+            raise NgcError("comp_axis_offsets")
         p = self.pars.num
         w = block.words
         pos = s.pos

@@ -26,6 +26,20 @@ PLANE_AXES = {170: ("X", "Y", "Z"), 180: ("Z", "X", "Y"), 190: ("Y", "Z", "X")}
 _LETTERS = "XYZABC"
 
 
+class Deferred:
+    """A canonical call held back by cutter radius compensation (LinuxCNC's ``enqueue_*``)."""
+
+    __slots__ = ("call", "args", "src")
+
+    def __init__(self, call, args: tuple, src: SourceRef):
+        self.call = call
+        self.args = args
+        self.src = src
+
+    def emit(self, out: Output) -> None:
+        self.call(*self.args)
+
+
 def _slot_setters(cls, names: tuple[str, ...]):
     """The slot setters of a frozen, slotted dataclass whose fields are exactly ``names``,
     in order, so that ``object.__new__(cls)`` and the setters build what ``cls(*values)``
@@ -131,12 +145,20 @@ class Output:
             "spindle": (0.0, "stop"), "frame": ((0.0,) * 6, 0.0, 1.0),
         }
         self.spindle_dirty = False
+        #: calls waiting behind a move cutter radius compensation holds back (LinuxCNC's
+        #: queue of canonical calls, emptied by ``CompMixin.dequeue``): while it is not
+        #: empty, comments, feed, dwell, coolant and spindle calls wait in it too
+        self.queue: list = []
 
     # -- plumbing -------------------------------------------------------------------------
 
     def _p(self, body: str) -> None:
         self.count += 1
         self.lines.append(f"{self.count:5d} {self.nlabel}{body}")
+
+    def _defer(self, call, *args) -> None:
+        """Hold a call back behind the queued moves (see :attr:`queue`)."""
+        self.queue.append(Deferred(call, args, self.src))
 
     def _c(self, cmd: vc.Command) -> None:
         if self.spindle_dirty:
@@ -239,6 +261,8 @@ class Output:
             self._p("SET_FEED_REFERENCE(CANON_XYZ)")
 
     def comment(self, text: str, program: bool = False) -> None:
+        if self.queue:
+            return self._defer(self.comment, text, program)
         if self.trace:
             self._p('COMMENT("%s")' % text)
         if program and self.want:
@@ -263,6 +287,8 @@ class Output:
             self._c(vc.PlaneSelect(self.src, plane=PLANE_AXES[plane]))
 
     def set_feed_mode(self, mode: int, interp_mode: int) -> None:
+        if self.queue:
+            return self._defer(self.set_feed_mode, mode, interp_mode)
         if self.trace:
             self._p("SET_FEED_MODE(0, %d)" % mode)
         name = ("per_minute", "inverse_time", "per_rev")[interp_mode]
@@ -271,6 +297,8 @@ class Output:
             self._c(vc.FeedMode(self.src, mode=name))
 
     def set_feed_rate(self, rate: float) -> None:
+        if self.queue:
+            return self._defer(self.set_feed_rate, rate)
         if self.trace:
             self._p("SET_FEED_RATE(%.4f)" % rate)
 
@@ -328,6 +356,8 @@ class Output:
                 turns=abs(rotation) - 1, feed=feed))
 
     def dwell(self, seconds: float) -> None:
+        if self.queue:
+            return self._defer(self.dwell, seconds)
         if self.trace:
             self._p("DWELL(%.4f)" % seconds)
         if self.want:
@@ -339,12 +369,16 @@ class Output:
         self.spindle_dirty = self.want
 
     def set_spindle_speed(self, speed: float) -> None:
+        if self.queue:
+            return self._defer(self.set_spindle_speed, speed)
         if self.trace:
             self._p("SET_SPINDLE_SPEED(0, %.4f)" % speed)
         self.speed = speed
         self._spindle()
 
     def spindle(self, direction: str) -> None:
+        if self.queue:
+            return self._defer(self.spindle, direction)
         if self.trace:
             self._p({"cw": "START_SPINDLE_CLOCKWISE(0)", "ccw": "START_SPINDLE_COUNTERCLOCKWISE(0)",
                      "stop": "STOP_SPINDLE_TURNING(0)"}[direction])
@@ -352,10 +386,14 @@ class Output:
         self._spindle()
 
     def set_spindle_mode(self) -> None:
+        if self.queue:
+            return self._defer(self.set_spindle_mode)
         if self.trace:
             self._p("SET_SPINDLE_MODE(0 0.0000)")
 
     def coolant(self, mist: bool | None = None, flood: bool | None = None) -> None:
+        if self.queue:
+            return self._defer(self.coolant, mist, flood)
         if mist is not None:
             if self.trace:
                 self._p("MIST_ON()" if mist else "MIST_OFF()")

@@ -178,6 +178,14 @@ class Settings:
         self.t_seen = False
         self.toolchange_flag = False
         self.offset_h = 0
+        # cutter radius compensation (comp.py): side 0 off, 1 left, 2 right; the radius in
+        # program units; the programmed point (x y z) the compensated moves start from
+        self.comp_side = 0
+        self.comp_radius = 0.0
+        self.comp_orientation = 0
+        self.comp_first = True
+        self.comp_program = [0.0, 0.0, 0.0]
+        self.arc_not_allowed = False
 
     def u2p(self, u: float) -> float:
         """USER_TO_PROGRAM_LEN: user units (rs274: inch) to program units, as LinuxCNC

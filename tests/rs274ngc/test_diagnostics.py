@@ -32,7 +32,9 @@ RUNTIME = [
     ("G0 X1\n", ("file_ended", 1, 1)),
     ("%\nG0 X1\n", ("file_ended_percent", 2, 1)),
     ("X1\nM2\n", ("axis_words_unused", 1, 1)),
-    ("G41 G1 X1 F1\nM2\n", ("unsupported", 1, 1)),
+    ("G96 S100\nM2\n", ("unsupported", 1, 1)),
+    ("G20 T1 M6\nG41\nG1 X0.01 F1\nM2\n", ("comp_entry_short", 3, 1)),
+    ("G20 T1 M6\nG41 G1 X1 F1\nG55\nM2\n", ("comp_coord_system", 3, 1)),
     ("T42 M6\nM2\n", ("tool_not_found", 1, 1)),
     ("o<missing> call\nM2\n", ("seeking_o_word", 2, 1)),
     ("o1 endsub\nM2\n", ("not_in_sub", 1, 1)),
@@ -112,7 +114,7 @@ def test_check_finds_subroutine_file_beside_program(tmp_path):
 
 
 def test_check_missing_end_and_unsupported(tmp_path):
-    assert _check(tmp_path, "G0 X1\nG41 X1\n") == [
+    assert _check(tmp_path, "G0 X1\nG33 X1 K1\n") == [
         ("unsupported", 2, 1),
     ]
     assert _check(tmp_path, "G0 X1\n", "b.ngc") == [("file_ended", 1, 1)]
