@@ -14,6 +14,7 @@ Deliberate differences from LinuxCNC are listed in ``DEVIATIONS.md`` beside this
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 from interpreters.rs274ngc.checker import check_program
 from interpreters.rs274ngc.diag import NgcError
@@ -40,6 +41,8 @@ def _interpret(path, control, options, extra, trace: bool, commands: bool):
     extra = extra or {}
     out = Output(trace, commands, _axes(control))
     table = extra.get("tool_table")
+    if table and options.tool_radius is not None:
+        options = replace(options, tool_radius=None)   # a LinuxCNC tool table given: its diameters
     try:
         # rs274 prints its notes on the tool table before anything else
         tools = read_tool_table(table, out.lines if trace else None) if table else (

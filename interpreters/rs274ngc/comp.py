@@ -38,6 +38,7 @@ from interpreters.rs274ngc.motion import (
     arc_data_r,
     find_turn,
 )
+from interpreters.rs274ngc.state import MM_PER_INCH
 
 LEFT = 1
 RIGHT = 2
@@ -228,6 +229,12 @@ class CompMixin:
                 index = self.tool_index(tool)
             entry = self.tools.entry(index)
             radius = s.u2p(entry.diameter) / 2.0
+            lookup = self.options.tool_radius      # vmach's tool library (verify, run --tools)
+            if lookup is not None:
+                mm = lookup(str(entry.number), 1)
+                if mm is None:
+                    raise NgcError("comp_no_library_radius", code=name, tool=entry.number)
+                radius = mm if s.metric else mm / MM_PER_INCH
             orientation = entry.orientation
             if s.plane != 180 and orientation not in (0, 9):
                 raise NgcError("comp_lathe_tool", code=name)

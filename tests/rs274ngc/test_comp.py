@@ -10,6 +10,7 @@ import tempfile
 from fractions import Fraction
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -122,3 +123,29 @@ def test_long_double_constants_compare_exactly(x):
         else:
             assert c.less_than(x) == (value < Fraction(x))
             assert c.greater_than(x) == (value > Fraction(x))
+
+
+def test_verify_takes_the_radius_from_vmachs_tool_library(tmp_path):
+    """With RunOptions.tool_radius (what verify and `run --tools` pass) G41 uses the library's
+    radius of the tool (here 5 mm) instead of the rs274 built-in table's (T1: 0.125 in
+    diameter); a tool the library lacks is an error at the G41 block; a LinuxCNC tool table
+    given explicitly wins."""
+    import math
+
+    from interpreters import rs274ngc
+    from vmach.canon import MOTIONS, RunOptions
+
+    prog = tmp_path / "c.ngc"
+    prog.write_text("G21 G17 T1 M6\nG0 X0 Y-20 Z1\nG41 G1 X0 Y0 F100\nX20\nG40 X30 Y-20\nM2\n")
+    lib = RunOptions(tool_radius=lambda tool, d: {"1": 5.0}.get(tool))
+
+    def entry_radius(result):
+        moves = [c for c in result.commands if isinstance(c, MOTIONS)]
+        end = moves[1].axes
+        return math.hypot(end["X"], end["Y"])
+
+    assert entry_radius(rs274ngc.run(prog, options=lib)) == pytest.approx(5.0)
+    assert entry_radius(rs274ngc.run(prog)) == pytest.approx(0.125 * 25.4 / 2)
+    missing = rs274ngc.run(prog, options=RunOptions(tool_radius=lambda tool, d: None))
+    assert not missing.completed and missing.findings[-1].kind == "comp_no_library_radius"
+    assert missing.findings[-1].line == 3
