@@ -71,6 +71,7 @@ class Corners:
                                "between straight elements only)", src)
         slot = Slot()
         self.m.sink.append(slot)
+        self.m.placeholders = True
         feed = words.get("FRC") or self.feed_modal or None
         self.held = (slot, cmd, start3, end3, centre, src, kind, value, feed)
 

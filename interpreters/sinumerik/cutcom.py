@@ -174,6 +174,7 @@ class Compensator:
             else:                               # runs at the compensated end of the element before
                 slot = Slot()
                 out.append(slot)
+                self.m.placeholders = True
                 self.waiting.append((slot, cmd))
             return
         if self.state == "deselecting":
@@ -185,6 +186,7 @@ class Compensator:
             return
         slot = Slot()
         out.append(slot)
+        self.m.placeholders = True
         elem = Element(p0, p1, tuple(end3), cmd, src, slot, centre, self.m.machine_cw(cw_of(cmd)),
                        int(getattr(cmd, "turns", 0)), r=self.radius)
         if centre is not None and self._offset_radius(elem) <= ON:

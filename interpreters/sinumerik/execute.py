@@ -130,6 +130,11 @@ class Machine:
         self.mcall_new = False            # set in the MCALL block itself (no call there)
         self.pole: tuple[float, float] | None = None   # polar coordinates' pole, program plane, mm
         self.tracyl = None                # the active TRACYL's start mark (tracyl.Mark)
+        #: the fast path (:meth:`straight`) may run: no inch, diameter, rotated frame,
+        #: compensation, chamfer, MCALL or TRACYL (kept by :meth:`refresh_plain`)
+        self.plain = True
+        #: a Slot or a TRACYL mark went into the command stream (resolved when the run ends)
+        self.placeholders = False
         #: the last move with motion in the plane (start, end machine values, arc centre in the
         #: program plane or None, machine clockwise), for CT's tangent
         self.last_move: tuple | None = None
@@ -176,6 +181,7 @@ class Machine:
         self.emit_frame(src)
         self.out.append(canon.PlaneSelect(src, plane=PLANES[self.plane]))
         self.out.append(canon.FeedMode(src, mode=self.feed_mode))
+        self.refresh_plain()
 
     def emit_frame(self, src: SourceRef) -> None:
         self.out.append(
@@ -243,6 +249,7 @@ class Machine:
                     raise ProgramError("syntax", "TRACYL needs the working diameter: TRACYL(d)", src.at(col))
                 if self.tracyl is not None:
                     out.append(tracyl.deactivate(self))
+                    self.placeholders = True
             elif grp == 7:
                 comp = (name, col)
             elif grp == 17:
@@ -346,6 +353,7 @@ class Machine:
                 pattern(self, name, args, src)
             elif name == "TRACYL":
                 out.append(tracyl.activate(self, args, src))
+                self.placeholders = True
             elif name.startswith("MCALL"):
                 self.mcall = (name[6:], args) if name != "MCALL" else None
                 self.mcall_new = True
@@ -374,7 +382,14 @@ class Machine:
         self.mcall_new = False
         if pause is not None:
             out.append(canon.Pause(src, optional=pause == 1))
+        self.refresh_plain()
         return end
+
+    def refresh_plain(self) -> None:
+        """Whether the fast path may take the next plain block (after any state change)."""
+        self.plain = not (self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged
+                          or self.corners.held is not None or self.corners.modal
+                          or self.mcall is not None or self.tracyl is not None)
 
     def _spindle(self, s: int, src: SourceRef) -> list:
         if s not in self.spindles:
@@ -531,9 +546,7 @@ class Machine:
 
     def straight(self, words: list, src: SourceRef) -> bool:
         """Fast path for blocks of G0/G1 axis words only; False when it does not apply."""
-        if (self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged
-                or self.corners.held is not None or self.corners.modal or self.mcall is not None
-                or self.tracyl is not None):
+        if not self.plain:
             return False
         new = self._plain_targets(words)
         if new is None:
@@ -555,6 +568,7 @@ class Machine:
         v = Values()
         v.axes = words
         self.move(v, src, False)
+        self.refresh_plain()
 
     def _plain_targets(self, words: list) -> dict | None:
         """Targets when no rotation, diameter or inch mode is active: value + offset.

@@ -130,7 +130,8 @@ class Interpreter:
         except ProgramError as exc:
             self.findings.append(exc.finding)
             completed = False
-        return RunResult(tracyl.apply(flatten(self.out)), self.findings, completed, self.blocks)
+        commands = tracyl.apply(flatten(self.out)) if self.machine.placeholders else self.out
+        return RunResult(commands, self.findings, completed, self.blocks)
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:
