@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 
+from interpreters.sinumerik.polar import plane_point
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -143,7 +144,7 @@ def pattern(machine, name: str, args, src: SourceRef) -> None:
         d = (math.cos(a), math.sin(a))
         along = [p["FDIS"] + k * p["DBH"] for k in range(n)]
         holes = [((p["SPCA"] + s * d[0]) * scale, (p["SPCO"] + s * d[1]) * scale) for s in along]
-        here = _Mover(machine, src).plane_point()
+        here = plane_point(machine)
         if math.dist(here, holes[-1]) < math.dist(here, holes[0]):
             holes.reverse()
     else:
@@ -159,45 +160,32 @@ def pattern(machine, name: str, args, src: SourceRef) -> None:
 
 
 class _Mover:
-    """Moves along the plane's normal in program coordinates, written as canonical commands."""
+    """Moves in program coordinates (the plane's normal, or within the plane), written as
+    canonical commands; the machine's position follows."""
 
     def __init__(self, machine, src: SourceRef) -> None:
         self.machine, self.src = machine, src
         g = machine.geometry
-        self.axis = g.index(machine.plane_axes[2])
+        self.a, self.b, self.axis = (g.index(n) for n in machine.plane_axes)
 
-    def _to(self, value: float) -> dict:
+    def _go(self, changes: dict[int, float]) -> dict:
+        """The machine position with the program coordinates ``changes`` (index -> mm)."""
         m = self.machine
-        g = m.geometry
-        p = list(m.frames.to_program(tuple(m.pos[n] for n in g)))
-        p[self.axis] = value
+        p = list(m.program_point())
+        for i, v in changes.items():
+            p[i] = v
         new = dict(m.pos)
-        for n, v in zip(g, m.frames.to_machine(tuple(p)), strict=True):
+        for n, v in zip(m.geometry, m.frames.to_machine(tuple(p)), strict=True):
             new[n] = v
         m.pos = new
         return dict(new)
 
-    def plane_point(self) -> tuple[float, float]:
-        m = self.machine
-        g = m.geometry
-        p = m.frames.to_program(tuple(m.pos[n] for n in g))
-        a, b = g.index(m.plane_axes[0]), g.index(m.plane_axes[1])
-        return (p[a], p[b])
-
     def rapid_plane(self, q: tuple[float, float]) -> None:
         """Rapid in the plane to q (program coordinates), the normal axis kept."""
-        m = self.machine
-        g = m.geometry
-        p = list(m.frames.to_program(tuple(m.pos[n] for n in g)))
-        p[g.index(m.plane_axes[0])], p[g.index(m.plane_axes[1])] = q
-        new = dict(m.pos)
-        for n, v in zip(g, m.frames.to_machine(tuple(p)), strict=True):
-            new[n] = v
-        m.pos = new
-        m.sink.append(canon.Traverse(self.src, axes=dict(new)))
+        self.machine.sink.append(canon.Traverse(self.src, axes=self._go({self.a: q[0], self.b: q[1]})))
 
     def rapid(self, value: float) -> None:
-        self.machine.sink.append(canon.Traverse(self.src, axes=self._to(value)))
+        self.machine.sink.append(canon.Traverse(self.src, axes=self._go({self.axis: value})))
 
     def feed(self, value: float, feed: float) -> None:
-        self.machine.sink.append(canon.LinearFeed(self.src, axes=self._to(value), feed=feed))
+        self.machine.sink.append(canon.LinearFeed(self.src, axes=self._go({self.axis: value}), feed=feed))

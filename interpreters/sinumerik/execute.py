@@ -398,6 +398,10 @@ class Machine:
             self.spindles[s] = [0.0, "stop"]
         return self.spindles[s]
 
+    def program_point(self) -> tuple[float, float, float]:
+        """The last programmed position of the geometry axes, program coordinates (mm)."""
+        return self.frames.to_program(tuple(self.pos[n] for n in self.geometry))
+
     def machine_cw(self, cw: bool) -> bool:
         """The machine's direction of an arc programmed clockwise (``cw``) or not in the
         working plane: a mirroring frame turns the plane over (G2 runs counter-clockwise)."""
@@ -516,7 +520,7 @@ class Machine:
                 raise ProgramError("cutcom", "G53/G153/SUPA while tool radius compensation, a chamfer "
                                    "or a rounding is active", src)
             g = self.geometry
-            start3 = self.frames.to_program(tuple(self.pos[n] for n in g))
+            start3 = self.program_point()
             end3 = self.frames.to_program(tuple(new[n] for n in g))
             self.corners.take(cmd, start3, end3, centre, src, corner or {}, self.send)
         else:

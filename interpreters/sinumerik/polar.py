@@ -27,7 +27,7 @@ POLES = ("G110", "G111", "G112")
 def plane_point(machine) -> tuple[float, float]:
     """The last programmed position in the plane, program coordinates (mm)."""
     g = machine.geometry
-    p = machine.frames.to_program(tuple(machine.pos[n] for n in g))
+    p = machine.program_point()
     a, c = machine.plane_axes[:2]
     return (p[g.index(a)], p[g.index(c)])
 
