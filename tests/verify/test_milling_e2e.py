@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 import trimesh
+from shapely.geometry import Polygon
 
 from vmach.cli import main
 
@@ -122,3 +123,63 @@ def test_a_tracyl_groove_on_the_turn_mill(tmp_path):
     assert inside.any() and np.abs(r[inside] - 27).max() < 0.02
     outside = (ang > sweep + 40) & (ang < 360 - 40)
     assert outside.any() and np.abs(r[outside] - 30).max() < 0.01
+
+
+def test_the_milling_fixture_verifies_clean_and_makes_its_drawing(tmp_path):
+    """fixtures/milling/PLATE.MPF (G41 outline with RND corners, MCALL CYCLE81 on a HOLES2
+    bolt circle) verifies without a finding — the drill's rapid retracts out of its holes are
+    no near misses — and its part is the drawing: a 60 × 40 R6 outline (area 2400 − (4 − π)·36)
+    and four Ø6.8 holes on Ø24 at 45°, 135°, 225°, 315°."""
+    import json
+    import shutil
+
+    from catalog import FIXTURES
+
+    job = tmp_path / "milling"
+    shutil.copytree(FIXTURES / "milling", job)
+    part = tmp_path / "part.stl"
+    assert main(["verify", str(job / "PLATE.MPF"), "--export", str(part), "--out", str(tmp_path / "o"),
+                 "--no-images", "--quiet"]) == 0
+    report = json.loads((tmp_path / "o" / "report.json").read_text())
+    assert report["summary"] == {"errors": 0, "warnings": 0, "infos": 0}
+    section = trimesh.load(part).section(plane_origin=[0, 0, -3], plane_normal=[0, 0, 1])
+    loops = sorted((Polygon(loop[:, :2]) for loop in section.discrete), key=lambda poly: -poly.length)
+    outline, inner = loops[0], loops[1:]
+    assert len(inner) == 4 and all(outline.contains(h) for h in inner)
+    assert outline.bounds == pytest.approx((-30, -20, 30, 20), abs=0.01)
+    assert outline.area == pytest.approx(2400 - (4 - math.pi) * 36, abs=0.5)
+    holes = sorted(((h.centroid.x, h.centroid.y), h.area) for h in inner)
+    want = sorted((12 * math.cos(math.radians(a)), 12 * math.sin(math.radians(a)))
+                  for a in (45, 135, 225, 315))
+    assert [c for c, _ in holes] == [pytest.approx(w, abs=1e-3) for w in want]
+    assert all(area == pytest.approx(math.pi * 3.4 ** 2, rel=0.01) for _, area in holes)
+
+
+def test_a_rapid_retract_along_the_axis_is_no_near_miss_only_for_a_tool_that_does_not_widen(tmp_path):
+    from vmach.stock.simulate import retracts
+    from vmach.tooling.library import load_tools
+
+    (tmp_path / "t.toml").write_text(TOOLS + """
+[[tool]]
+name = "DR"
+type = "drill"
+diameter = 6.8
+point_angle = 118.0
+cutting_length = 30.0
+shank = { diameter = 6.8, length = 20.0 }
+holder = { diameter = 25.0, length = 40.0 }
+
+[[tool]]
+name = "FACE"
+type = "face"
+diameter = 40.0
+cutting_length = 5.5
+shank = { diameter = 36.0, length = 35.0 }
+""")
+    lib = load_tools(tmp_path / "t.toml")
+    up = np.array([[0, 0, -8.0], [0, 0, 5.0]])
+    axis = np.array([[0, 0, 1.0], [0, 0, 1.0]])
+    assert retracts(lib["DR"], up, axis) and retracts(lib["EM10"], up, axis)
+    assert not retracts(lib["FACE"], up, axis)                   # its body is narrower
+    assert not retracts(lib["DR"], up[::-1], axis)               # a plunge
+    assert not retracts(lib["DR"], np.array([[0, 0, 5.0], [10, 0, 6.0]]), axis)   # sideways

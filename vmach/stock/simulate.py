@@ -412,7 +412,8 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
                 f"rapid move removes {removed:.3f} mm³ of material around "
                 f"({c[0]:.2f}, {c[1]:.2f}, {c[2]:.2f}) mm (work frame)",
                 table.source(row), row, {"volume_mm3": round(removed, 4), "at_mm": c}))
-        elif clearance > 0 and cutters:
+        elif clearance > 0 and cutters and not ((row == 0 or table.kind[row - 1] != TRAVERSE)
+                                                and retracts(tool, tips, ax)):
             gap = engine.min_gap(local, cut, clearance)
             if gap < clearance:
                 res.findings.append(Finding(
@@ -436,6 +437,25 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
                 {"part": p.name, "volume_mm3": round(vol, 4), "at_mm": np.round(centre, 3).tolist()}))
             _snapshot(stock, done, row, res)
     return local
+
+
+def retracts(tool, tips: np.ndarray, ax: np.ndarray) -> bool:
+    """Whether a rapid only draws the tool back along its own axis with a tool that does not
+    widen above its cutter. Right after a feed (a drilling cycle's retract out of its hole),
+    or from where the program starts, the cutter then passes only where the tool itself was,
+    so its touching the walls it has just cut is no near miss (material in its way is still
+    ``rapid_into_stock``); after a rapid the tool was as close before, and the near miss is
+    reported.
+
+    tips, ax : (n, 3) tip positions and unit axes (tip toward the spindle) of the move, mm.
+    """
+    d = tips[-1] - tips[0]
+    length = float(np.linalg.norm(d))
+    a = ax[0]
+    if length == 0.0 or not np.allclose(ax, a, atol=1e-9) or float(d @ a) < length * (1 - 1e-12):
+        return False
+    radii = [r for _, _, _, r in tool.stack()] if hasattr(tool, "stack") else []
+    return bool(radii) and all(r1 >= r0 - 1e-12 for r0, r1 in zip(radii, radii[1:], strict=False))
 
 
 SNAPSHOTS = 12  # close-up pictures are made of the first few findings only
