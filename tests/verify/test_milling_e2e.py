@@ -26,6 +26,17 @@ holder = { diameter = 30.0, length = 40.0 }
 length = 0.0
 """
 
+DRILL = """
+[[tool]]
+name = "DR8"
+type = "drill"
+diameter = 8.0
+point_angle = 118.0
+cutting_length = 30.0
+shank = { diameter = 8.0, length = 20.0 }
+holder = { diameter = 30.0, length = 40.0 }
+"""
+
 BOSS = """T="EM10" D1
 G17 G90 G0 X-30 Y-30 Z5
 S3000 M3
@@ -70,16 +81,7 @@ def test_mcall_cycle81_drills_a_hole_at_each_position(tmp_path):
     """MCALL CYCLE81 after two positioning blocks: the exported part has two Ø8 holes where
     the program put them (none at the start position), their 118° points ending at DP = −10:
     0.5 mm above it the hole is the cone's 0.5·tan 59° wide."""
-    (tmp_path / "tools.toml").write_text(TOOLS + """
-[[tool]]
-name = "DR8"
-type = "drill"
-diameter = 8.0
-point_angle = 118.0
-cutting_length = 30.0
-shank = { diameter = 8.0, length = 20.0 }
-holder = { diameter = 30.0, length = 40.0 }
-""")
+    (tmp_path / "tools.toml").write_text(TOOLS + DRILL)
     prog = tmp_path / "HOLES.MPF"
     prog.write_text('T="DR8" D1\nG17 G90 G0 X0 Y0 Z20\nS2000 M3 F200\n'
                     "MCALL CYCLE81(10, 0, 2, -10)\nX10 Y10\nX30\nMCALL\nG0 Z50\nM30\n")
@@ -159,16 +161,7 @@ def test_a_rapid_retract_along_the_axis_is_no_near_miss_only_for_a_tool_that_doe
     from vmach.stock.simulate import retracts
     from vmach.tooling.library import load_tools
 
-    (tmp_path / "t.toml").write_text(TOOLS + """
-[[tool]]
-name = "DR"
-type = "drill"
-diameter = 6.8
-point_angle = 118.0
-cutting_length = 30.0
-shank = { diameter = 6.8, length = 20.0 }
-holder = { diameter = 25.0, length = 40.0 }
-
+    (tmp_path / "t.toml").write_text(TOOLS + DRILL + """
 [[tool]]
 name = "FACE"
 type = "face"
@@ -179,7 +172,7 @@ shank = { diameter = 36.0, length = 35.0 }
     lib = load_tools(tmp_path / "t.toml")
     up = np.array([[0, 0, -8.0], [0, 0, 5.0]])
     axis = np.array([[0, 0, 1.0], [0, 0, 1.0]])
-    assert retracts(lib["DR"], up, axis) and retracts(lib["EM10"], up, axis)
+    assert retracts(lib["DR8"], up, axis) and retracts(lib["EM10"], up, axis)
     assert not retracts(lib["FACE"], up, axis)                   # its body is narrower
-    assert not retracts(lib["DR"], up[::-1], axis)               # a plunge
-    assert not retracts(lib["DR"], np.array([[0, 0, 5.0], [10, 0, 6.0]]), axis)   # sideways
+    assert not retracts(lib["DR8"], up[::-1], axis)               # a plunge
+    assert not retracts(lib["DR8"], np.array([[0, 0, 5.0], [10, 0, 6.0]]), axis)   # sideways
