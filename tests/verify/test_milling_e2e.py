@@ -176,3 +176,25 @@ shank = { diameter = 36.0, length = 35.0 }
     assert not retracts(lib["FACE"], up, axis)                   # its body is narrower
     assert not retracts(lib["DR8"], up[::-1], axis)               # a plunge
     assert not retracts(lib["DR8"], np.array([[0, 0, 5.0], [10, 0, 6.0]]), axis)   # sideways
+
+
+def test_an_rs274_g41_boss_takes_the_radius_from_the_tool_library(tmp_path):
+    """The same boss as an RS274/NGC program: under verify, G41 compensates with the library's
+    EM10 (tool 1, 5 mm) — not rs274's built-in T1 of 1/8 in — so the walls land on the drawing."""
+    (tmp_path / "tools.toml").write_text(TOOLS.replace('name = "EM10"', 'name = "EM10"\nnumber = 1'))
+    prog = tmp_path / "boss.ngc"
+    prog.write_text("G21 G17 G90\nT1 M6\nS3000 M3\nG0 X-30 Y20 Z5\nG1 Z-5 F500\nG41 G1 X0 Y20\n"
+                    "Y40\nX40\nY0\nX0\nY20\nG40 G1 X-30\nG0 Z5\nM2\n")
+    part = tmp_path / "part.stl"
+    assert main(["verify", str(prog), "--machine", "s5d", "--tools", str(tmp_path / "tools.toml"),
+                 "--stock", "box:xmin=-20,xmax=60,ymin=-20,ymax=60,zmin=-20,zmax=0",
+                 "--export", str(part), "--out", str(tmp_path / "o"), "--no-images", "--quiet"]) == 0
+    from shapely.geometry import LineString
+
+    section = trimesh.load(part).section(plane_origin=[0, 0, -2.5], plane_normal=[0, 0, 1])
+    boss = Polygon(min(section.discrete, key=lambda loop: np.ptp(loop[:, 0]))[:, :2])
+    # across the boss at heights the compensated sides run past (LinuxCNC's entry move, from
+    # the left to y = 25, leaves the wall below that to the last side's way back)
+    for y in (10.0, 30.0, 35.0):
+        xmin, _, xmax, _ = boss.intersection(LineString([(-50, y), (100, y)])).bounds
+        assert (xmin, xmax) == pytest.approx((0.0, 40.0), abs=1e-6)
