@@ -198,3 +198,32 @@ def test_an_rs274_g41_boss_takes_the_radius_from_the_tool_library(tmp_path):
     for y in (10.0, 30.0, 35.0):
         xmin, _, xmax, _ = boss.intersection(LineString([(-50, y), (100, y)])).bounds
         assert (xmin, xmax) == pytest.approx((0.0, 40.0), abs=1e-6)
+
+
+def test_the_turn_mill_groove_fixture_verifies_clean_and_cuts_its_groove(tmp_path):
+    """fixtures/turnmill/GROOVE.MPF (TRACYL(40), the D25 radial, 3 mm deep over 90°; two
+    countersinks by CYCLE81 along X): no finding, and through the groove the part lies at
+    radius 17 (the countersinks below it at 30° and 60°), at the blank's 20 elsewhere."""
+    import json
+    import shutil
+
+    from catalog import FIXTURES, POLYGON_TOOLS
+
+    job = tmp_path / "turnmill"
+    shutil.copytree(FIXTURES / "turnmill", job)
+    setup = (job / "vmach.toml").read_text().replace("../tools/polygon_shaft.toml", str(POLYGON_TOOLS))
+    (job / "vmach.toml").write_text(setup)
+    part = tmp_path / "part.stl"
+    assert main(["verify", str(job / "GROOVE.MPF"), "--export", str(part), "--out", str(tmp_path / "o"),
+                 "--no-images", "--quiet"]) == 0
+    assert json.loads((tmp_path / "o" / "report.json").read_text())["summary"]["warnings"] == 0
+    section = trimesh.load(part).section(plane_origin=[0, 0, -25], plane_normal=[0, 0, 1])
+    pts = np.concatenate([loop[:, :2] for loop in section.discrete])
+    r = np.hypot(pts[:, 0], pts[:, 1])
+    ang = np.degrees(np.arctan2(pts[:, 1], pts[:, 0])) % 360
+    floor = ((ang > 3) & (ang < 20)) | ((ang > 70) & (ang < 87))
+    assert floor.any() and np.abs(r[floor] - 17).max() < 0.02
+    sinks = (np.abs(ang - 30) < 1) | (np.abs(ang - 60) < 1)
+    assert sinks.any() and r[sinks].min() < 16
+    blank = (ang > 125) & (ang < 325)    # the flat face's chords reach 31.8° beyond 0 and 90
+    assert blank.any() and np.abs(r[blank] - 20).max() < 0.01
