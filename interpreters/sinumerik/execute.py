@@ -27,6 +27,7 @@ from interpreters.sinumerik.frames import Frames, diagonal, matmul, modulo_targe
 from vmach import canon
 from vmach.canon import AxisSpec, ControlSpec
 from vmach.errors import ProgramError
+from vmach.findings import warning
 from vmach.source import SourceRef
 
 PLANES = {"G17": ("X", "Y", "Z"), "G18": ("Z", "X", "Y"), "G19": ("Y", "Z", "X")}
@@ -135,6 +136,7 @@ class Machine:
         self.plain = True
         #: a Slot or a TRACYL mark went into the command stream (resolved when the run ends)
         self.placeholders = False
+        self.notes: list = []             # warnings the block effects found (left_active)
         #: the last move with motion in the plane (start, end machine values, arc centre in the
         #: program plane or None, machine clockwise), for CT's tangent
         self.last_move: tuple | None = None
@@ -323,7 +325,7 @@ class Machine:
             elif m in (2, 30, 17):
                 end = f"M{m}"
                 if m != 17:
-                    self.end_contour()
+                    self.end_contour(src)
                 continue
             elif m == 6:
                 continue  # tools change at T on this control (tool change mode "T")
@@ -477,8 +479,19 @@ class Machine:
         self.emit_frame(src)
 
     # ------------------------------------------------------------------------------------
-    def end_contour(self) -> None:
-        """Program end: a held chamfer block runs to its end, compensation ends."""
+    def end_contour(self, src: SourceRef) -> None:
+        """Program end: a held chamfer block runs to its end, compensation ends; what is still
+        switched on is a ``left_active`` warning (the next program would inherit it)."""
+        left = []
+        if self.cutcom.engaged:
+            left.append(("G41/G42", "tool radius compensation (no G40)"))
+        if self.mcall is not None:
+            left.append(("MCALL", f"the modal call MCALL {self.mcall[0]} (no MCALL to end it)"))
+        if self.tracyl is not None:
+            left.append(("TRACYL", "TRACYL (no TRAFOOF)"))
+        for what, text in left:
+            self.notes.append(warning("left_active", f"the program ends with {text} still active", src,
+                                      what=what))
         self.corners.flush(self.send)
         self.cutcom.finish()
 

@@ -131,7 +131,7 @@ class Interpreter:
             self.findings.append(exc.finding)
             completed = False
         commands = tracyl.apply(flatten(self.out)) if self.machine.placeholders else self.out
-        return RunResult(commands, self.findings, completed, self.blocks)
+        return RunResult(commands, self.machine.notes + self.findings, completed, self.blocks)
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:
@@ -233,7 +233,7 @@ class Interpreter:
             src = self.src(level, last) if last else SourceRef(program.path, 1)
             if pc >= n and len(self.stack) == 1:
                 self.findings.append(warning("missing_program_end", "the program ends without M30/M2", src))
-                self.machine.end_contour()
+                self.machine.end_contour(src)
                 self.out.append(canon.ProgramEnd(src, code="EOF"))
             if not self.pop(src):
                 return

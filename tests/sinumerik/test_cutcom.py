@@ -220,3 +220,16 @@ def test_g451_meets_an_arc_on_its_compensated_circle(tmp_path):
     n = (2 / math.sqrt(5), 1 / math.sqrt(5))          # the arc's end normal, outward
     assert arc[1:3] == pytest.approx((40 + 5 * n[0], 40 + 5 * n[1]), abs=1e-9)
     assert math.hypot(arc[1] - 20, arc[2] - 30) == pytest.approx(rc)
+
+
+@pytest.mark.parametrize("body, what", [
+    ("G1 G41 X0 Y0\nY40\n", "G41/G42"),
+    ("MCALL CYCLE81(5, 0, 1, -3)\nX10\n", "MCALL"),
+])
+def test_a_program_that_ends_with_a_modal_function_on_is_warned(tmp_path, body, what):
+    r = run(tmp_path, "T1 D1\nG17 G90 G0 X-20 Y-20 Z5\nF500\n" + body + "M30\n", options=RADII)
+    assert r.completed
+    warned = [f for f in r.findings if f.kind == "left_active"]
+    assert [(f.severity, f.line, f.data["what"]) for f in warned] == [("warning", body.count("\n") + 4, what)]
+    clean = run(tmp_path, "T1 D1\nG17 G0 X0 Y0\nF500\nG1 G41 X10\nG40 X20\nM30\n", options=RADII)
+    assert [f for f in clean.findings if f.kind == "left_active"] == []

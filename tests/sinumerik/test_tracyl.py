@@ -63,3 +63,9 @@ def test_compensation_works_on_the_unwrapped_surface(tmp_path):
 def test_bad_tracyl_calls_are_errors(tmp_path, text, kind):
     f = error_of(run(tmp_path, "G19 G0 X30\n" + text + "M30\n", TURN))
     assert (f.kind, f.line) == (kind, 2)
+
+
+def test_a_program_ending_under_tracyl_is_warned(tmp_path):
+    r = run(tmp_path, "G19 G0 X30 Y0 Z0\nTRACYL(60)\nG1 Y10 F100\nM30\n", TURN)
+    assert r.completed
+    assert [(f.kind, f.line, f.data["what"]) for f in r.findings] == [("left_active", 4, "TRACYL")]
