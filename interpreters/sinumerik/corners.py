@@ -117,18 +117,19 @@ class Corners:
         q0 = _moved(a1, ia, ib, (p[0] - d * ua[0], p[1] - d * ua[1]))
         q1 = _moved(a1, ia, ib, (p[0] + d * ub[0], p[1] + d * ub[1]))
         feed = insert_feed or getattr(a_cmd, "feed", None) or self.m.feed
-        first = replace(a_cmd, axes=self._axes(a_cmd.axes, q0))
+        first = replace(a_cmd, axes=self.m.machine_axes(a_cmd.axes, q0))
+        end = self.m.machine_axes(a_cmd.axes, q1)
         if kind == "RND":
             side = 1.0 if turn > 0 else -1.0
             c = (q0[ia] - side * ua[1] * value, q0[ib] + side * ua[0] * value)
-            insert = canon.ArcFeed(a_src, axes=self._axes(a_cmd.axes, q1), plane=self.m.plane_axes,
-                                   center=self._centre(c, a1), clockwise=self.m.machine_cw(turn < 0), turns=0,
-                                   feed=feed)
+            insert = canon.ArcFeed(a_src, axes=end, plane=self.m.plane_axes,
+                                   center=self.m.machine_plane(c, a1),
+                                   clockwise=self.m.machine_cw(turn < 0), turns=0, feed=feed)
             insert_centre = c
         elif isinstance(a_cmd, canon.Traverse):
-            insert, insert_centre = canon.Traverse(a_src, axes=self._axes(a_cmd.axes, q1)), None
+            insert, insert_centre = canon.Traverse(a_src, axes=end), None
         else:
-            insert, insert_centre = canon.LinearFeed(a_src, axes=self._axes(a_cmd.axes, q1), feed=feed), None
+            insert, insert_centre = canon.LinearFeed(a_src, axes=end, feed=feed), None
         self._into(slot, send, first, a0, q0, None, a_src)
         self._into(slot, send, insert, q0, q1, insert_centre, a_src)
         return tuple(q1)
@@ -159,11 +160,11 @@ class Corners:
                                a_src, radius=rho)
         c, qa, qb = touch[0]
         q0, q1 = _moved(a1, ia, ib, qa), _moved(a1, ia, ib, qb)
-        first = replace(a_cmd, axes=self._axes(a_cmd.axes, q0))
+        first = replace(a_cmd, axes=self.m.machine_axes(a_cmd.axes, q0))
         feed = insert_feed or getattr(a_cmd, "feed", None) or self.m.feed
-        insert = canon.ArcFeed(a_src, axes=self._axes(a_cmd.axes, q1), plane=self.m.plane_axes,
-                               center=self._centre(c, a1), clockwise=self.m.machine_cw(turn < 0), turns=0,
-                               feed=feed)
+        end = self.m.machine_axes(a_cmd.axes, q1)
+        insert = canon.ArcFeed(a_src, axes=end, plane=self.m.plane_axes, center=self.m.machine_plane(c, a1),
+                               clockwise=self.m.machine_cw(turn < 0), turns=0, feed=feed)
         self._into(slot, send, first, a0, q0, a_centre, a_src)
         self._into(slot, send, insert, q0, q1, c, a_src)
         return tuple(q1)
@@ -177,18 +178,6 @@ class Corners:
         finally:
             self.m.sink = sink
 
-    def _axes(self, axes, q3) -> dict:
-        """``axes`` with the geometry axes at the program point q3 (through the frame)."""
-        m = self.m.frames.to_machine(tuple(q3))
-        out = dict(axes)
-        for i, n in enumerate(self.m.geometry):
-            out[n] = m[i]
-        return out
-
-    def _centre(self, c, base3) -> tuple[float, float]:
-        ia, ib = self.m.cutcom.plane
-        m = self.m.frames.to_machine(tuple(_moved(base3, ia, ib, c)))
-        return (m[ia], m[ib])
 
 
 def _element(machine, cmd, start3, end3, centre, ia: int, ib: int) -> Element:

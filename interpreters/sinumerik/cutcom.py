@@ -239,7 +239,7 @@ class Compensator:
             end = self._corner(a, nxt)
         self._write(a, end, approach)
         for slot, cmd in self.waiting:
-            slot.commands.append(self._moved(cmd, end, a.end3))
+            slot.commands.append(replace(cmd, axes=self._axes(cmd, end)))
         self.waiting = []
         self.pending = None
 
@@ -282,7 +282,7 @@ class Compensator:
 
     def _link(self, a: Element, q: Point, b: Element) -> canon.Command:
         """A straight move to q at the corner, as the next block moves (traverse or feed)."""
-        axes = self._axes(b.cmd, q, a.end3)
+        axes = self._axes(b.cmd, q)
         if isinstance(b.cmd, canon.Traverse):
             return canon.Traverse(b.src, axes=axes)
         return canon.LinearFeed(b.src, axes=axes, feed=b.cmd.feed)
@@ -290,10 +290,10 @@ class Compensator:
     def _transition(self, a: Element, qa: Point, qb: Point, b: Element) -> canon.Command:
         """The G450 arc of radius r about the corner from qa to qb (a straight traverse when
         the next block is G0: the canonical stream has no rapid arcs)."""
-        axes = self._axes(b.cmd, qb, a.end3)
+        axes = self._axes(b.cmd, qb)
         if isinstance(b.cmd, canon.Traverse):
             return canon.Traverse(b.src, axes=axes)
-        centre = self._machine_plane(a.p1, a.end3)
+        centre = self.m.machine_plane(a.p1, a.end3)
         return canon.ArcFeed(b.src, axes=axes, plane=self.m.plane_axes, center=centre,
                              clockwise=self.m.machine_cw(self.side > 0), turns=0, feed=b.cmd.feed)
 
@@ -337,35 +337,21 @@ class Compensator:
     # -- commands ------------------------------------------------------------------------
     def _write(self, e: Element, end: Point, approach: bool) -> None:
         cmd = e.cmd
-        axes = self._axes(cmd, end, e.end3)
+        axes = self._axes(cmd, end)
         if isinstance(cmd, canon.ArcFeed):
-            new = replace(cmd, axes=axes, center=self._machine_plane(e.centre, e.end3))
+            new = replace(cmd, axes=axes, center=self.m.machine_plane(e.centre, e.end3))
         else:
             new = replace(cmd, axes=axes)
         e.slot.commands.extend(e.before)
         e.slot.commands.append(new)
 
-    def _moved(self, cmd: canon.Command, q: Point, at3) -> canon.Command:
-        """A move of other axes, run at the compensated point q."""
-        return replace(cmd, axes=self._axes(cmd, q, at3))
-
-    def _axes(self, cmd: canon.Command, q: Point, base3) -> dict:
-        """The command's axes with the plane's geometry axes at the compensated point q."""
+    def _axes(self, cmd: canon.Command, q: Point) -> dict:
+        """The command's axes (it carries every axis) with the plane's geometry axes at the
+        compensated point q."""
         ia, ib = self.plane
-        p = list(cmd_program3(self.m, cmd, base3))
+        p = list(self.m.frames.to_program(tuple(cmd.axes[n] for n in self.m.geometry)))
         p[ia], p[ib] = q
-        m = self.m.frames.to_machine(tuple(p))
-        axes = dict(cmd.axes)
-        for i, n in enumerate(self.m.geometry):
-            axes[n] = m[i]
-        return axes
-
-    def _machine_plane(self, c: Point, base3) -> tuple[float, float]:
-        ia, ib = self.plane
-        p = list(base3)
-        p[ia], p[ib] = c
-        m = self.m.frames.to_machine(tuple(p))
-        return (m[ia], m[ib])
+        return self.m.machine_axes(cmd.axes, p)
 
     @property
     def plane(self) -> tuple[int, int]:
@@ -378,13 +364,6 @@ def cw_of(cmd: canon.Command) -> bool:
     """An arc command's machine direction (False for lines); :meth:`Machine.machine_cw` turns it
     back into the program's (the map is its own inverse)."""
     return bool(getattr(cmd, "clockwise", False))
-
-
-def cmd_program3(machine, cmd: canon.Command, base3) -> tuple[float, float, float]:
-    """Program coordinates of a command's end point (its geometry axes through the frame)."""
-    g = machine.geometry
-    return machine.frames.to_program(tuple(cmd.axes[n] for n in g)) if all(n in cmd.axes for n in g) \
-        else tuple(base3)
 
 
 def _add(p: Point, v: Point) -> Point:

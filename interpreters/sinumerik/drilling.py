@@ -174,11 +174,8 @@ class _Mover:
         p = list(m.program_point())
         for i, v in changes.items():
             p[i] = v
-        new = dict(m.pos)
-        for n, v in zip(m.geometry, m.frames.to_machine(tuple(p)), strict=True):
-            new[n] = v
-        m.pos = new
-        return dict(new)
+        m.pos = m.machine_axes(m.pos, p)
+        return dict(m.pos)
 
     def rapid_plane(self, q: tuple[float, float]) -> None:
         """Rapid in the plane to q (program coordinates), the normal axis kept."""

@@ -404,6 +404,24 @@ class Machine:
         """The last programmed position of the geometry axes, program coordinates (mm)."""
         return self.frames.to_program(tuple(self.pos[n] for n in self.geometry))
 
+    def machine_axes(self, axes, p3) -> dict:
+        """``axes`` (every axis, machine values) with the geometry axes at the program point
+        ``p3`` (mm) through the frame."""
+        out = dict(axes)
+        for n, v in zip(self.geometry, self.frames.to_machine(tuple(p3)), strict=True):
+            out[n] = v
+        return out
+
+    def machine_plane(self, c, base3) -> tuple[float, float]:
+        """Machine values in the working plane of the program-plane point ``c`` (an arc
+        centre) at the height of the program point ``base3``."""
+        g = self.geometry
+        ia, ib = g.index(self.plane_ab[0]), g.index(self.plane_ab[1])
+        p = list(base3)
+        p[ia], p[ib] = c
+        m = self.frames.to_machine(tuple(p))
+        return (m[ia], m[ib])
+
     def machine_cw(self, cw: bool) -> bool:
         """The machine's direction of an arc programmed clockwise (``cw``) or not in the
         working plane: a mirroring frame turns the plane over (G2 runs counter-clockwise)."""
