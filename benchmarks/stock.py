@@ -11,6 +11,7 @@ P3G-50 deviation between z = -35 and -5 with the sampling bound.
 
 Cases
 - ``program``: ``simulate`` with the defaults (fan cutters for rotary runs of flat-faced tools,
+  column cutters for the same sector of consecutive turns of a helix,
   cutters trimmed to the stock within their Z range, placed poses inside translation hulls left
   out, spread batches, tools to ``tol.tool_chord``).
 - ``program-checked``: the same with ``checks=True`` (what ``vmach verify`` runs).
@@ -124,6 +125,7 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
                        boolean=stock.stats.boolean_seconds, bound=sim.bound_mm,
                        fans=stock.stats.fans, fan_overcut=stock.stats.fan_overcut_mm,
                        fan_covered=stock.stats.fan_covered_mm, cusp_poses=stock.stats.cusp_poses,
+                       columns=stock.stats.columns, column_cells=stock.stats.column_cells,
                        findings=len(sim.findings), triangles=engine.num_triangles(part))
             out["total"] = time.perf_counter() - t_all
             out["dev"] = _deviation(stock.section)
@@ -154,7 +156,8 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             engine.check(stock.solid)
             out.update(cutters=stock.stats.cutters, sweep=stock.stats.sweep_seconds,
                        boolean=stock.stats.boolean_seconds, fans=stock.stats.fans,
-                       fan_overcut=stock.stats.fan_overcut_mm, fan_covered=stock.stats.fan_covered_mm)
+                       fan_overcut=stock.stats.fan_overcut_mm, fan_covered=stock.stats.fan_covered_mm,
+                       columns=stock.stats.columns, column_cells=stock.stats.column_cells)
         else:
             t0 = time.perf_counter()
             hulls = _naive_hulls(tool, tips[:-1], axes[:-1], tips[1:], axes[1:])
@@ -198,6 +201,8 @@ def line(r: dict) -> str:
         if r.get("fan_covered"):
             dev += f"; bridges up to {r['fan_covered']:.4f} mm where the path's other turns cut anyway"
         dev += "]"
+    if r.get("columns"):
+        dev += f"  [{r['columns']} column cutters holding {r['column_cells']} turns' sectors]"
     if r.get("cusp_poses"):
         dev += f"  [{r['cusp_poses']} poses added against cusps]"
     if len(r.get("totals", ())) > 1:

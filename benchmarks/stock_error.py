@@ -79,7 +79,7 @@ CODE = ("vmach", "interpreters", "models", "fixtures", "tests/catalog.py")   # w
 
 def _code_version() -> tuple[str, str]:
     """(label, key) of the code a simulation runs: HEAD, and the git trees of ``CODE`` with a hash
-    of their uncommitted changes (so a commit elsewhere keeps the cache)."""
+    of their uncommitted changes and untracked files (so a commit elsewhere keeps the cache)."""
     try:
         def git(*cmd: str) -> bytes:
             return subprocess.run(["git", "-C", str(ROOT), *cmd], capture_output=True, check=True).stdout
@@ -87,6 +87,9 @@ def _code_version() -> tuple[str, str]:
         head = git("rev-parse", "--short=12", "HEAD").decode().strip()
         trees = git("rev-parse", *(f"HEAD:{c}" for c in CODE)).decode().split()
         diff = git("diff", "HEAD", "--", *CODE)
+        # files not yet committed count too (their contents, by name)
+        for name in sorted(git("ls-files", "--others", "--exclude-standard", "--", *CODE).decode().split()):
+            diff += name.encode() + (ROOT / name).read_bytes()
     except (OSError, subprocess.CalledProcessError):
         return "no git", "nogit"
     dirty = "" if not diff else "-dirty" + hashlib.sha1(diff).hexdigest()[:8]

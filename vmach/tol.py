@@ -82,6 +82,10 @@ class Tolerances:
     fan_overcut: float = 0.005
     #: Largest rotation of the tool axis within one fan cutter, degrees.
     fan_angle: float = 20.0
+    #: Column cutters (vmach/stock/column.py): the angular sector of the tool axis they take
+    #: of each turn of a helix, degrees (360 / it a whole number), and the most turns in one.
+    column_sector: float = 15.0
+    column_turns: int = 8
 
 
 tol = Tolerances()

@@ -77,7 +77,8 @@ class Report:
     def simulation(self) -> dict[str, Any] | None:
         """What the stock simulation did and the error it allows (mm), or None without one.
         ``error_bounds_mm``: the flat-face scallop of the sampled rotary steps (the P3G flanks'
-        bound), the most a fan cutter removes beyond the true sweep (measured on every fan),
+        bound), the most a fan or column cutter removes beyond the true sweep (measured on
+        every one),
         the tool polygon in directions its turn does not make exact, the estimated cusps of
         curved sides between placed poses, the blank's polygon (docs/stock.md)."""
         if self.sim is None or self.part is None:
@@ -91,6 +92,7 @@ class Report:
             "poses": int(self.sim.samples),
             "cutters": int(st.cutters),
             "fan_cutters": int(st.fans),
+            "column_cutters": int(st.columns),
             "cusp_poses": int(st.cusp_poses),
             "max_rotary_step_deg": round(float(self.sim.max_step_deg), 4),
             "error_bounds_mm": {

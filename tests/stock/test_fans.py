@@ -16,6 +16,7 @@ import pytest
 
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
+from vmach.stock import cutters as cutters_module
 from vmach.stock import stock as stock_module
 from vmach.stock.fan import EPS, Prism, covered, plan_fans, prism
 from vmach.stock.sweep import scallop_bound
@@ -410,8 +411,9 @@ def helix_turns(library):
     for name in ("fans", "alone"):
         with pytest.MonkeyPatch.context() as mp:
             if name == "alone":
-                mp.setattr(stock_module, "covered", lambda grid, need, *a: np.zeros(need.shape, bool))
-            stock = Stock.from_spec("cylinder:d=60,l=60", chord=FINE)
+                mp.setattr(cutters_module, "covered", lambda grid, need, *a, **k: np.zeros(need.shape, bool))
+            # (fans alone: columns would take the same sector of consecutive turns at once)
+            stock = Stock.from_spec("cylinder:d=60,l=60", chord=FINE, columns=False)
             stock.cut(tool, tips, axes)
             out[name] = (stock, floor_hits(stock.solid, phis, rs))
     return out
@@ -436,7 +438,8 @@ def test_bridges_the_other_turns_cut_anyway_let_fans_grow(helix_turns):
 def test_a_sample_is_covered_only_when_every_patch_around_it_lies_in_one_pose():
     """covered(): a 3 × 2 × 4 grid of samples on the plane z = 0, a tool (radius 5, length 10)
     standing on it along +x: the samples within its cylinder — with what lies 0.1 mm above
-    them — are covered; a sample whose patches reach out of the cylinder is not."""
+    them — are covered; a sample whose patches reach out of the cylinder is not; with
+    ``behind`` the cylinder reaches that far behind the face as well."""
     tool = Prism(radius=5.0, length=10.0, ring=np.column_stack([
         5 * np.cos(np.linspace(0, 2 * np.pi, 64, endpoint=False)),
         5 * np.sin(np.linspace(0, 2 * np.pi, 64, endpoint=False)), np.zeros(64)]))
@@ -459,6 +462,12 @@ def test_a_sample_is_covered_only_when_every_patch_around_it_lies_in_one_pose():
     assert not got[..., 2:].any() and got[..., :2].all()
     # only what is asked for is answered
     assert not covered(grid, np.zeros_like(need), 0.1, up, tips, axes, tool).any()
+    # the face 0.05 mm past the first samples (x = 1): they lie behind it, and their
+    # neighbours' patches reach them — covered only by cylinders taken at least that far behind
+    ahead = np.array([[1.05, 1.5, 0.0]])
+    assert not covered(grid, need, 0.1, up, ahead, axes, tool)[..., :2].any()
+    assert covered(grid, need, 0.1, up, ahead, axes, tool, behind=0.06)[..., :2].all()
+    assert not covered(grid, need, 0.1, up, ahead, axes, tool, behind=0.04)[..., :2].any()
 
 
 @pytest.mark.parametrize("seed", [1, 2])

@@ -21,7 +21,7 @@ Solid = m3d.Manifold
 __all__ = [
     "Solid", "StockError", "box", "bounds", "centroid", "check", "cylinder", "empty", "from_mesh", "hull",
     "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles", "slice_polygons", "split",
-    "subtract", "to_mesh", "transform", "union", "volume",
+    "subtract", "to_mesh", "transform", "trim", "union", "volume",
 ]
 
 
@@ -182,6 +182,12 @@ def union(solids: Sequence[Solid]) -> Solid:
 
 def intersect(a: Solid, b: Solid) -> Solid:
     return a ^ b
+
+
+def trim(solid: Solid, plane: np.ndarray) -> Solid:
+    """``solid`` ∩ {x : n·x <= c} for ``plane`` (4,) = (unit n, c), mm (lazy)."""
+    n = np.asarray(plane[:3], dtype=float)
+    return solid.trim_by_plane((-float(n[0]), -float(n[1]), -float(n[2])), -float(plane[3]))
 
 
 def split(solid: Solid, cutters: Sequence[Solid]) -> tuple[Solid, Solid]:

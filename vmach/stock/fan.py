@@ -438,7 +438,7 @@ def reaches(planes: np.ndarray, samples: np.ndarray, direction: np.ndarray) -> n
 
 
 def covered(grid: np.ndarray, need: np.ndarray, reach: float, direction: np.ndarray, tips: np.ndarray,
-            axes: np.ndarray, tool: Prism) -> np.ndarray:
+            axes: np.ndarray, tool: Prism, behind: float = 0.0) -> np.ndarray:
     """(a, m, s) bool: the samples ``grid`` (a, m, s, 3) of a sampled surface (:func:`side_samples`)
     around which whatever lies within ``reach`` mm of the surface along ``direction`` (3,) is
     cut anyway by the tool at one of the poses ``tips``, ``axes`` (c, 3; unit axes) — asked
@@ -450,7 +450,13 @@ def covered(grid: np.ndarray, need: np.ndarray, reach: float, direction: np.ndar
     points lie within the cylinder inscribed in the prism's polygon at one and the same pose —
     so inside the true tool and its polygon both, at a place the path's motion takes. A sample
     is covered when every patch around it is. What a fan takes there beyond its own run's
-    sweep is taken by those poses anyway, by the true tool and by the simulated one alike."""
+    sweep is taken by those poses anyway, by the true tool and by the simulated one alike.
+
+    ``behind`` (mm): the cylinders reach that far behind their poses' faces as well. What a
+    patch holds there the pose does not cut, but it lies within ``behind`` of what it does:
+    a cutter that takes it removes no more than that beyond the true sweep (near its face, a
+    helix's next turn stands a little behind or ahead of the face chain where this turn's face
+    meets it, the chains of the two differing by their sampling)."""
     out = np.zeros(need.shape, bool)
     if not need.any() or len(tips) == 0 or min(need.shape[0], need.shape[2]) < 2:
         return out
@@ -461,24 +467,26 @@ def covered(grid: np.ndarray, need: np.ndarray, reach: float, direction: np.ndar
     corners = np.stack([grid[a, k, b], grid[a + 1, k, b], grid[a, k, b + 1], grid[a + 1, k, b + 1]], axis=1)
     corners = np.concatenate([corners, corners + reach * np.asarray(direction, dtype=float)], axis=1)
     inner = tool.radius * np.cos(np.pi / len(tool.ring))
+    length = tool.length + behind
+    tips = tips - behind * axes
     # a pose holds a patch when its eight points are inside: surely when the patch's bounding
     # ball is, possibly when the ball meets the cylinder (tested point by point)
     flat = corners.reshape(-1, 3)
     centre = 0.5 * (flat.min(axis=0) + flat.max(axis=0))
     rho = float(np.linalg.norm(flat - centre, axis=1).max())
-    near = _ball_in_cylinder(centre[None], np.array([rho]), tips, axes, tool.length, inner)[1][0]
+    near = _ball_in_cylinder(centre[None], np.array([rho]), tips, axes, length, inner)[1][0]
     tp, ax = tips[near], axes[near]
     patch = np.zeros(want.shape, bool)
     if len(tp):
         mid = corners.mean(axis=1)
         sure, maybe = _ball_in_cylinder(mid, np.linalg.norm(corners - mid[:, None], axis=2).max(axis=1),
-                                        tp, ax, tool.length, inner)
+                                        tp, ax, length, inner)
         ok = sure.any(axis=1)
         pi_, pj = np.nonzero(maybe & ~ok[:, None])
         d = corners[pi_] - tp[pj][:, None]                                  # (q, 8, 3)
         z = np.einsum("qki,qi->qk", d, ax[pj])
         radial = np.linalg.norm(d - z[..., None] * ax[pj][:, None], axis=2)
-        ok[pi_[((z >= 0.0) & (z <= tool.length) & (radial <= inner)).all(axis=1)]] = True
+        ok[pi_[((z >= 0.0) & (z <= length) & (radial <= inner)).all(axis=1)]] = True
         patch[idx] = ok
     # a sample is covered when every patch around it is (those off the grid do not count)
     full = np.ones((need.shape[0] + 1, need.shape[1], need.shape[2] + 1), bool)

@@ -27,19 +27,15 @@ from vmach.errors import InputError
 from vmach.output import atomic_writer, make_dir, writable_dir
 from vmach.stock import cusps, engine
 from vmach.stock.batch import EMPTY_BOX, Piece
-from vmach.stock.clip import Shape, clip, shape, sweep_shape
+from vmach.stock.clip import Shape, shape
+from vmach.stock.column import Column, plan_columns
+from vmach.stock.cutters import CutterMaker, _run_frames
 from vmach.stock.events import overlap_volume
 from vmach.stock.fan import (
     NO_FANS,
     back_clear,
-    covered,
-    hull_planes,
-    material_points,
     plan_fans,
     prism,
-    reaches,
-    side_lines,
-    side_samples,
 )
 from vmach.stock.hull import BlankHull, blank_hull, box_corners, hull_of
 from vmach.stock.slabs import Slabs
@@ -47,7 +43,7 @@ from vmach.stock.spec import parse_stock
 from vmach.stock.sweep import plan, run_extremes
 from vmach.tol import tol
 from vmach.tooling.model import Tool
-from vmach.tooling.solid import ToolSolid, across, frames, lateral, place, spun, tool_solid
+from vmach.tooling.solid import ToolSolid, across, frames, lateral, spun, tool_solid
 
 EXPORT_FORMATS = (".stl", ".3mf", ".ply")
 
@@ -62,7 +58,10 @@ class CutStats:
     over the floor its tool's side sweeps, measured (mm), where no other pose of the path cuts
     anyway; fan_covered_mm : the largest such bridge where other poses of the path do (a
     helix's other turns; :func:`vmach.stock.fan.covered`); cusp_poses : placed poses added
-    between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`);
+    between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`); columns :
+    column cutters (:mod:`vmach.stock.column`) and column_cells : the turns' cells they hold;
+    column_overcut_mm : the deepest a column's face chain lies below one of its turns' own, or
+    its hull bridges a floor beyond what the path cuts anyway (mm; also in fan_overcut_mm);
     sweep_seconds : making cutters; boolean_seconds : batch booleans.
     """
 
@@ -76,27 +75,12 @@ class CutStats:
     fan_overcut_mm: float = 0.0
     fan_covered_mm: float = 0.0
     cusp_poses: int = 0
+    columns: int = 0
+    column_cells: int = 0
+    column_overcut_mm: float = 0.0
     batches: int = 0
     sweep_seconds: float = 0.0
     boolean_seconds: float = 0.0
-
-
-_IDENTITY = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
-
-
-def _run_frames(tips: np.ndarray, axes: np.ndarray, ends: list, segments: int) -> list:
-    """Frames ((3, 4), (3, 4)) of each translation run's two extreme poses (a, b) in ``ends``:
-    the same turn about the (common) axis, with the polygon exact toward the run's own
-    lateral direction (:func:`vmach.tooling.solid.spun`)."""
-    if not ends:
-        return []
-    ab = np.asarray(ends, dtype=int)                                        # (r, 2)
-    a, b = ab[:, 0], ab[:, 1]
-    unit = axes[a] / np.linalg.norm(axes[a], axis=1, keepdims=True)
-    side = np.repeat(across(unit, tips[b] - tips[a]), 2, axis=0)
-    pair = np.stack([tips[a], tips[b]], axis=1).reshape(-1, 3)             # a0 b0 a1 b1 ...
-    fr = spun(frames(pair, np.repeat(axes[a], 2, axis=0)), side, segments)
-    return list(zip(fr[0::2], fr[1::2], strict=True))
 
 
 def _within(runs: np.ndarray, outer: np.ndarray) -> np.ndarray:
@@ -136,7 +120,7 @@ def export_target(path: str | Path) -> Path:
     return p
 
 
-class Stock:
+class Stock(CutterMaker):
     """Material that tool paths remove.
 
     solid : engine.Solid — the blank.
@@ -151,6 +135,8 @@ class Stock:
     fans : bool — cut runs of rotary steps of a flat-faced prism tool with fan cutters
         (:mod:`vmach.stock.fan`) instead of placed poses (only with ``trim``).
     fan_overcut : float, mm — the most a fan cutter may remove beyond the true sweep.
+    columns : bool — cut the same sector of consecutive turns of a helix with one column cutter
+        (:mod:`vmach.stock.column`) instead of a fan per turn (only with ``fans``).
     cusp : float, mm — the largest cusp a curved side may leave between placed poses of a
         rotary step before poses are added between them (:mod:`vmach.stock.cusps`).
     spread : int — batches taken from one window of queued cutters (:mod:`vmach.stock.batch`).
@@ -172,7 +158,7 @@ class Stock:
     def __init__(self, solid: engine.Solid, *, batch: int = 64,
                  cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
                  progress: bool = False, trim: bool = True, spread: int = 8, fans: bool = True,
-                 fan_overcut: float = tol.fan_overcut, cusp: float = tol.sweep_cusp):
+                 fan_overcut: float = tol.fan_overcut, cusp: float = tol.sweep_cusp, columns: bool = True):
         engine.check(solid, "blank")
         self.initial = solid
         self.initial_bounds = engine.bounds(solid)
@@ -181,6 +167,7 @@ class Stock:
         self.chord = chord
         self.trim = trim
         self.fans = fans and trim
+        self.columns = columns and self.fans
         self.fan_overcut = fan_overcut
         self.cusp = cusp
         self._hull: BlankHull | None = None    # the blank's hull for the screening (hull.py)
@@ -327,17 +314,25 @@ class Stock:
         if len(fans.runs):
             poses = _outside_runs(poses, fans.runs)
             runs = runs[~_within(runs, fans.runs)]
+        fan_runs = fans.runs                      # every step a fan or a column holds
+        cols: list[Column] = []
+        if self.columns and len(fans.runs):
+            cp = plan_columns(tips, unit, fans, radius=ts.radius,
+                              inner=ts.radius * np.cos(np.pi / ts.segments), overcut=self.fan_overcut)
+            cols, fans = cp.columns, cp.fans
         path = (tips, unit)                       # what else the path cuts
         key = poses.astype(float)                 # where each placed pose lies along the path
         if between is not None and self.trim and isinstance(tool, Tool):
-            more, at = self._cusp_poses(tool, ts, tips, fr, rotary, fans.runs, between)
+            more, at = self._cusp_poses(tool, ts, tips, fr, rotary, fan_runs, between)
             if len(more):
                 poses = np.r_[poses, len(fr) + np.arange(len(more))]
                 key = np.r_[key, at]
                 fr = np.concatenate([fr, more])
-        start = np.concatenate([key, runs[:, 0], fans.runs[:, 0]])
-        kind = np.r_[np.zeros(len(poses), int), np.ones(len(runs), int), np.full(len(fans.runs), 2)]
-        which = np.r_[np.arange(len(poses)), np.arange(len(runs)), np.arange(len(fans.runs))].astype(int)
+        start = np.concatenate([key, runs[:, 0], fans.runs[:, 0], [c.cells[0, 0] for c in cols]])
+        kind = np.r_[np.zeros(len(poses), int), np.ones(len(runs), int), np.full(len(fans.runs), 2),
+                     np.full(len(cols), 3)]
+        which = np.r_[np.arange(len(poses)), np.arange(len(runs)), np.arange(len(fans.runs)),
+                      np.arange(len(cols))].astype(int)
         order = np.argsort(start, kind="stable")
         for c0 in range(0, len(order), self.CHUNK):
             part = order[c0 : c0 + self.CHUNK]
@@ -345,8 +340,9 @@ class Stock:
             ends = [run_extremes(tips, r) for r in runs[which[part][kind[part] == 1]]]
             fan_jobs = [(tips[a : b + 1], unit[a : b + 1], fans.omega[f], fr[a : b + 1], path)
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
+            col_jobs = [(cols[c], tips, unit, fr, path) for c in which[part][kind[part] == 3]]
             run_fr = _run_frames(tips, axes, ends, ts.segments)   # shared by every piece
-            jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [])
+            jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [], col_jobs if k == 0 else [])
                     for k in range(len(ts.pieces))]
             self.stats.sweep_seconds += time.perf_counter() - t0
             yield ts, jobs
@@ -496,178 +492,6 @@ class Stock:
         if self._slabs is None or not self.SLABS:
             return np.broadcast_to(outer, (len(zlo), 2, 3)).copy()
         return self._slabs.boxes(zlo, zhi, outer)
-
-    def _fan_cutters(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, omega: np.ndarray,
-                     fr: np.ndarray, box: np.ndarray, trimmed: list,
-                     path: tuple[np.ndarray, np.ndarray] | None = None
-                     ) -> list[tuple[engine.Solid, np.ndarray]]:
-        """The cutters of one candidate fan run (:mod:`vmach.stock.fan`): [(solid, box (2, 3)),
-        ...]. ``tips``, ``axes`` (n, 3): its poses (unit axes); ``fr`` (n, 3, 4): their frames,
-        as placed poses have them (turned so that the polygon is exact to both sides of the
-        travel, :func:`vmach.tooling.solid.spun`);
-        ``box`` (2, 3): its trim box; ``trimmed``: its poses clipped to it; ``path``: the tips
-        and unit axes (m, 3) of the whole path the run belongs to.
-
-        A fan's H is the hull of its poses each trimmed to the box: inside the box it holds
-        every trimmed pose (so the fan removes at least what they would) and lies in the hull
-        of the untrimmed poses. H is measured — how far it bridges the floor or ceiling the
-        tool's side sweeps (:func:`vmach.stock.fan.reaches`) — and a fan that bridges more than
-        ``fan_overcut`` is made again shorter, in proportion (the bridge grows with the twist
-        a run takes along its axis); the next fan starts at the length the last one's bridge
-        suggests. Where the path's own poses cut the bridged place anyway (a helix's next or
-        previous turn; :func:`vmach.stock.fan.covered`) the bridge does not count: the final
-        stock is the same. Two steps that still bridge too much are cut as placed poses."""
-        reach = np.broadcast_to(box, (len(tips), 2, 3))
-        pr = self._prism(ts)
-        self._blank_hull()
-        lines = side_lines(fr, omega, pr, reach, self._hull.outer)
-        n = len(tips)
-        tol_ = self.fan_overcut
-
-        def measure(i: int, j: int):
-            """(hull, bridge, points, covered bridge) of the fan i..j; hull None when it
-            misses the box. The bridge counts where no other pose of the path cuts anyway."""
-            kept = [q for q in trimmed[i : j + 1] if q is not None]
-            if not kept:
-                return None, 0.0, None, 0.0
-            q = np.concatenate(kept)
-            hull = engine.hull(q)
-            samples = side_samples(lines, i, j)
-            if not samples:
-                return hull, 0.0, q, 0.0
-            planes = hull_planes(*engine.to_mesh(hull, double=True))
-            gap = hidden = 0.0
-            for _, grid, d in samples:
-                r = reaches(planes, grid.reshape(-1, 3), d).reshape(grid.shape[:3])
-                over = r > tol_
-                if over.any() and path is not None:
-                    # what the rest of the path cuts anyway (a helix's next and previous turns)
-                    ok = covered(grid, over, float(r.max()), d, *path, pr)
-                    hidden = max(hidden, float(r[ok].max(initial=0.0)))
-                    r[ok] = 0.0
-                gap = max(gap, float(r.max(initial=0.0)))
-            return hull, gap, q, hidden
-
-        def end(i: int, j: int, shrink: bool = False) -> int:
-            """j within i+2 .. n-1, leaving no run of one step over (rounding down when
-            shrinking, so that the run does get shorter)."""
-            j = min(n - 1, max(i + 2, j))
-            if 0 < n - 1 - j < 2:
-                j = n - 3 if shrink and n - 3 >= i + 2 else n - 1
-            return j
-
-        def scaled(i: int, j: int, gap: float, most: float) -> int:
-            return i + int((j - i) * min(most, 0.95 * tol_ / max(gap, 1e-12)))
-
-        out = []
-        i = 0
-        while i < n - 1:
-            j = end(i, i + self._fan_guess)
-            hull, gap, q, hidden = measure(i, j)
-            while gap > tol_ and j - i > 2:                 # too twisted: shorter, in proportion
-                k = end(i, min(j - 1, scaled(i, j, gap, 1.0)), shrink=True)
-                if k >= j:
-                    break
-                j = k
-                hull, gap, q, hidden = measure(i, j)
-            while gap <= 0.6 * tol_ and j < n - 1:          # room to spare: one longer try
-                k = end(i, max(j + 1, scaled(i, j, gap, 2.0)))
-                h2, g2, q2, c2 = measure(i, k)
-                if g2 > tol_:
-                    break
-                j, hull, gap, q, hidden = k, h2, g2, q2, c2
-            if hull is None:
-                self.stats.culled += 1
-            elif gap > tol_:                # two steps still too twisted: placed poses, as made,
-                own, _ = clip(self._tool_shapes(ts)[0], fr[i : j + 1], *box)
-                out += [(engine.hull(k), np.stack([k.min(axis=0), k.max(axis=0)]))
-                        for k in own if k is not None]
-                # ... and translation hulls for its straight steps
-                straight = [(k, k + 1) for k in range(i, j)
-                            if np.linalg.norm(np.cross(axes[k], axes[k + 1])) <= 1e-12]
-                out += self._make_runs(ts, 0, _run_frames(tips, axes, straight, ts.segments))
-            else:
-                m = material_points(tips[i : j + 1], axes[i : j + 1], omega, q)
-                out.append((engine.subtract(hull, [engine.hull(m)]) if m is not None else hull,
-                            np.stack([q.min(axis=0), q.max(axis=0)])))
-                self.stats.fans += 1
-                self.stats.fan_poses += j - i + 1
-                self.stats.fan_overcut_mm = max(self.stats.fan_overcut_mm, gap)
-                self.stats.fan_covered_mm = max(self.stats.fan_covered_mm, hidden)
-                self._fan_guess = max(2, scaled(i, j, gap, 1.5) - i)
-            i = j
-        return out
-
-    def _make(self, ts: ToolSolid, jobs) -> tuple[list[engine.Solid], list[np.ndarray]]:
-        """Cutters of one stretch, in this process, each trimmed to the box around the stock
-        within its Z range (:meth:`_boxes`)."""
-        made: list[tuple[engine.Solid, np.ndarray]] = []
-        for k, fr, runs, fan_jobs in jobs:
-            made += self._make_fans(ts, fan_jobs)
-            made += self._make_placed(ts, k, fr)
-            made += self._make_runs(ts, k, runs)
-        return [c for c, _ in made], [b for _, b in made]
-
-    def _make_fans(self, ts: ToolSolid, fan_jobs: list) -> list[tuple[engine.Solid, np.ndarray]]:
-        """Fan cutters (piece 0), every run's poses trimmed in one go."""
-        if not fan_jobs:
-            return []
-        out = []
-        fan_fr = [job[3] for job in fan_jobs]
-        z = [place(ts.pieces[0], f)[:, :, 2] for f in fan_fr]
-        fan_box = self._boxes(np.array([v.min() for v in z]), np.array([v.max() for v in z]))
-        sizes = [len(f) for f in fan_fr]
-        boxes = np.repeat(fan_box, sizes, axis=0)
-        trimmed, _ = clip(self._tool_shapes(ts)[0], np.concatenate(fan_fr), boxes[:, 0], boxes[:, 1])
-        starts = np.cumsum([0, *sizes])
-        for f, (tips, axes, omega, _, path) in enumerate(fan_jobs):
-            out += self._fan_cutters(ts, tips, axes, omega, fan_fr[f], fan_box[f],
-                                     trimmed[starts[f] : starts[f + 1]], path)
-        return out
-
-    def _make_placed(self, ts: ToolSolid, k: int, fr: np.ndarray) -> list[tuple[engine.Solid, np.ndarray]]:
-        """Piece k placed at poses fr (m, 3, 4), trimmed."""
-        if len(fr) == 0:
-            return []
-        solid = self._tool_pieces(ts)[k]
-        placed = place(ts.pieces[k], fr)                                    # (m, p, 3)
-        if not self.trim:
-            return [(engine.transform(solid, fr[j]), np.stack([placed[j].min(axis=0), placed[j].max(axis=0)]))
-                    for j in range(len(fr))]
-        pose_box = self._boxes(placed[:, :, 2].min(axis=1), placed[:, :, 2].max(axis=1))
-        trimmed, inside = clip(self._tool_shapes(ts)[k], fr, pose_box[:, 0], pose_box[:, 1])
-        out = []
-        for j, q in enumerate(trimmed):
-            if q is None:
-                self.stats.culled += 1
-                continue
-            out.append((engine.transform(solid, fr[j]) if inside[j] else engine.hull(q),
-                        np.stack([q.min(axis=0), q.max(axis=0)])))
-        return out
-
-    def _make_runs(self, ts: ToolSolid, k: int, runs: list) -> list[tuple[engine.Solid, np.ndarray]]:
-        """Translation hulls of piece k, one per run (frames (3, 4) of its two extreme poses),
-        trimmed: the hull's shape is written down (:func:`vmach.stock.clip.sweep_shape`) and
-        clipped, without building the untrimmed hull."""
-        if not runs:
-            return []
-        sweeps = [sweep_shape(self._tool_shapes(ts)[k], fa, fb) for fa, fb in runs]
-        box = self._boxes(np.array([w.vertices[:, 2].min() for w in sweeps]),
-                          np.array([w.vertices[:, 2].max() for w in sweeps])) if self.trim else None
-        out = []
-        for r, w in enumerate(sweeps):
-            both = w.vertices
-            lo, hi = both.min(axis=0), both.max(axis=0)
-            if self.trim and not (np.all(lo >= box[r, 0]) and np.all(hi <= box[r, 1])):
-                q = None
-                if not (np.any(hi < box[r, 0]) or np.any(lo > box[r, 1]) or np.any(box[r, 0] > box[r, 1])):
-                    q = clip(w, _IDENTITY, box[r, 0], box[r, 1])[0][0]
-                if q is None:
-                    self.stats.culled += 1
-                    continue
-                both, lo, hi = q, q.min(axis=0), q.max(axis=0)
-            out.append((engine.hull(both), np.stack([lo, hi])))
-        return out
 
     def queue(self, cutters: list, boxes: list) -> None:
         """Queue ready cutters (from :meth:`cutters`)."""
