@@ -330,6 +330,33 @@ def test_fans_are_not_used_where_the_tools_back_lies_in_the_stock(library, monke
     assert np.nanmax(over) > 3 * forced.stats.fan_overcut_mm
 
 
+def test_the_tools_back_is_judged_by_the_stock_within_its_reach(library, monkeypatch):
+    """The same facing pass on a stepped blank: Ø56 where the tool works (z -45..0), Ø60
+    below, beyond its reach. The face mill's back face lies beyond the stock everywhere the
+    tool reaches, though not beyond the whole blank: judged by the stock within the Z range of
+    each pose's tool and its neighbours' (the trim slabs), the pass is fanned, within the bound
+    of the dense cut; judged by the whole blank, it is not."""
+    tool = library.lookup("GLOD D40")
+    xyzc, phis = _zigzag_case(2)
+    stepped = engine.union([engine.cylinder(28.0, -45.0, 0.0, 720), engine.cylinder(30.0, -60.0, -45.0, 720)])
+
+    def cut(sub, **kw):
+        stock = Stock(stepped, chord=0.002, **kw)
+        stock.cut(tool, *_zigzag(*xyzc, sub))
+        return stock
+
+    fans, dense = cut(1), cut(8, fans=False)
+    assert fans.stats.fans > 0
+    rs = np.array([26.6, 27.1, 27.7])
+    lo_f = floor_hits(fans.solid, phis, rs, top=-10.0)
+    lo_d = floor_hits(dense.solid, phis, rs, top=-10.0)
+    dev = tool_solid(tool, 0.002).deviation
+    assert np.nanmax(lo_d - lo_f) <= fans.stats.fan_overcut_mm + 2 * dev + 1e-6
+    monkeypatch.setattr(Stock, "_back_clear", lambda self, tips, axes, pr: stock_module.back_clear(
+        tips, axes, pr, engine.to_mesh(stepped)[0]))
+    assert cut(1).stats.fans == 0
+
+
 @pytest.mark.parametrize("y0", [0.0, 3.0])
 def test_fans_keep_the_foot_a_face_rim_leaves(library, monkeypatch, y0):
     """The D25 turned about the work axis at X = 26 with its centre Y = y0 off the contact

@@ -247,6 +247,45 @@ def test_slabs_are_each_bins_extent_over_the_triangles_that_meet_it():
             assert slabs.rmax[b] == np.hypot(t[:, :, 0], t[:, :, 1]).max()
 
 
+def test_slab_support_bounds_the_solid_in_a_z_range_along_any_direction():
+    """Slabs.support: a lop-sided, twisting solid (a stack of offset, rotated polygons): for
+    random Z ranges and directions, the support is at least that of the solid's part in the
+    range (its triangles clipped to the range, exactly: corners and edge crossings) — a
+    bound — and no more than the support of the bins' boxes it meets."""
+    solid = engine.union([engine.transform(engine.cylinder(8.0 + k, -3.0 * k - 3.0, -3.0 * k, 12),
+                                           np.hstack([np.eye(3), [[0.4 * k], [0.2 * k * k], [0.0]]]))
+                          for k in range(10)])
+    v, f = engine.to_mesh(solid, double=True)
+    slabs = Slabs.from_mesh(v, f)
+    rng = np.random.default_rng(8)
+    tri = v[f]
+    edges = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])     # (e, 2, 3)
+    for _ in range(200):
+        zlo = rng.uniform(-32.0, 2.0)
+        zhi = zlo + rng.uniform(0.0, 12.0)
+        d = rng.normal(size=3)
+        d /= np.linalg.norm(d)
+        got = slabs.support(np.array([zlo]), np.array([zhi]), d[None])[0]
+        # the solid's points in the range: vertices within it and edges crossing its planes
+        pts = [v[(v[:, 2] >= zlo) & (v[:, 2] <= zhi)]]
+        for zc in (zlo, zhi):
+            a, b = edges[:, 0], edges[:, 1]
+            rise = b[:, 2] - a[:, 2]
+            t = (zc - a[:, 2]) / np.where(rise != 0, rise, 1.0)
+            ok = (rise != 0) & (t >= 0) & (t <= 1)
+            pts.append(a[ok] + t[ok, None] * (b[ok] - a[ok]))
+        p = np.concatenate(pts)
+        if len(p) == 0:
+            continue
+        assert got >= (p @ d).max() - 1e-9
+        b0, b1 = (int(np.floor((z - slabs.z0) / slabs.step)) for z in (zlo, zhi))
+        bins = np.arange(max(b0, 0), min(b1, len(slabs.lo) - 1) + 1)
+        corners = [np.array([x, y, z]) for k in bins for x in (slabs.lo[k, 0], slabs.hi[k, 0])
+                   for y in (slabs.lo[k, 1], slabs.hi[k, 1])
+                   for z in (slabs.z0 + k * slabs.step, slabs.z0 + (k + 1) * slabs.step)]
+        assert got <= max(c @ d for c in corners) + 1e-9
+
+
 def test_copies_clipped_each_to_its_own_box_are_clipped_as_one_by_one(d25_shape):
     """clip with a box per copy (lo, hi (m, 3)) gives each copy what clipping it alone to its
     box gives; an empty box (lo > hi) culls its copy."""

@@ -95,6 +95,26 @@ class Slabs:
         ok &= np.all((p[..., :2] >= lo) & (p[..., :2] <= hi), axis=-1)
         return ok & (np.hypot(p[..., 0], p[..., 1]) <= self.rmax[b])
 
+    def support(self, zlo: np.ndarray, zhi: np.ndarray, dirs: np.ndarray) -> np.ndarray:
+        """(k,) float, mm: how far the solid reaches along the unit directions ``dirs`` (k, 3)
+        within the Z ranges [zlo, zhi] (k,) — at most: the largest support over the bins the
+        range meets of each bin's X/Y box and its cylinder of the largest radius about Z
+        (the solid lies in both), at the bin's top or bottom; -inf where no bin is met."""
+        d = np.asarray(dirs, dtype=float).reshape(-1, 3)
+        nb = len(self.lo)
+        bottom = self.z0 + self.step * np.arange(nb)
+        b0 = np.floor((np.asarray(zlo, dtype=float) - self.z0) / self.step).astype(int)
+        b1 = np.floor((np.asarray(zhi, dtype=float) - self.z0) / self.step).astype(int)
+        full = np.isfinite(self.rmax)
+        box = (np.maximum(d[:, :1] * self.lo[None, :, 0], d[:, :1] * self.hi[None, :, 0])
+               + np.maximum(d[:, 1:2] * self.lo[None, :, 1], d[:, 1:2] * self.hi[None, :, 1]))   # (k, b)
+        cyl = np.hypot(d[:, 0], d[:, 1])[:, None] * np.where(full, self.rmax, 0.0)[None]
+        along = np.maximum(d[:, 2:3] * bottom[None], d[:, 2:3] * (bottom + self.step)[None])
+        sup = np.minimum(box, cyl) + along
+        bins = np.arange(nb)[None]
+        meets = (bins >= b0[:, None]) & (bins <= b1[:, None]) & full[None]
+        return np.where(meets, sup, -np.inf).max(axis=1, initial=-np.inf)
+
     @cached_property
     def _spans(self) -> tuple[np.ndarray, np.ndarray]:
         """Sparse tables (levels, b, 2) of lo and hi: entry [j, i] is the min (max) over bins

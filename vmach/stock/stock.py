@@ -30,7 +30,7 @@ from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, shape
 from vmach.stock.column import Column, plan_columns
 from vmach.stock.cutters import CutterMaker, _run_frames
-from vmach.stock.events import overlap_volume
+from vmach.stock.events import cylinder_boxes, overlap_volume
 from vmach.stock.fan import (
     NO_FANS,
     back_clear,
@@ -297,9 +297,12 @@ class Stock(CutterMaker):
             return
         sp = plan(tips, axes)
         fr = spun(frames(tips, axes), lateral(tips, axes), ts.segments)
+        rotary = sp.angles > tol.hull_angle
         if self.trim:
             t1 = time.perf_counter()
-            self._boxes(np.zeros(0), np.zeros(0), fresh=True)    # trim slabs of the stock now
+            # trim slabs of the stock now (and the stock as it is for fans: their tool's back)
+            self._boxes(np.zeros(0), np.zeros(0), fresh=True,
+                        force=self.fans and bool(rotary.any()) and self._prism(ts) is not None)
             t0 += time.perf_counter() - t1                       # (its booleans are counted there)
         poses = sp.poses
         if self.trim:
@@ -307,7 +310,6 @@ class Stock(CutterMaker):
             self.stats.covered += (len(sp.poses) - len(poses)) * len(ts.pieces)
         # fan runs over rotary steps and the straight steps between them (fan.plan_fans);
         # the placed poses and translation runs they hold are left out
-        rotary = sp.angles > tol.hull_angle
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
         fans = self._fans(ts, tips, unit, rotary, ~rotary)
         runs = sp.runs
@@ -461,20 +463,41 @@ class Stock(CutterMaker):
         pr = self._prism(ts) if self.fans else None
         if pr is None:
             return NO_FANS
-        self._blank_hull()
-        return plan_fans(tips, axes, rotary, pr, slides=slides,
-                         clear=back_clear(tips, axes, pr, self._hull.corners), stock_box=self.bounds)
+        return plan_fans(tips, axes, rotary, pr, slides=slides, clear=self._back_clear(tips, axes, pr),
+                         stock_box=self.bounds)
 
-    def _boxes(self, zlo: np.ndarray, zhi: np.ndarray, fresh: bool = False) -> np.ndarray:
+    def _back_clear(self, tips: np.ndarray, axes: np.ndarray, pr) -> np.ndarray:
+        """(n,) bool: poses (tips, unit axes (n, 3)) whose prism's back face has the stock
+        behind it where the fans it may join could fill a notch (:func:`vmach.stock.fan.back_clear`):
+        the whole blank, or — with the trim slabs of the stock as it was last taken (it only
+        shrinks) — the stock within the Z range of this pose's tool and its neighbours' (a
+        notch between two back faces lies in the box of the two tools)."""
+        self._blank_hull()
+        clear = back_clear(tips, axes, pr, self._hull.corners)
+        if self._slabs is None or not self.SLABS or len(tips) == 0:
+            return clear
+        box = cylinder_boxes(tips, axes, 0.0, pr.length, pr.radius)
+        lo, hi = box[:, 0, 2], box[:, 1, 2]
+        lo = np.minimum(lo, np.minimum(np.r_[lo[:1], lo[:-1]], np.r_[lo[1:], lo[-1:]]))
+        hi = np.maximum(hi, np.maximum(np.r_[hi[:1], hi[:-1]], np.r_[hi[1:], hi[-1:]]))
+        behind = self._slabs.support(lo, hi, axes) <= np.einsum("ij,ij->i", tips, axes) + pr.length
+        return clear | behind
+
+    def _boxes(self, zlo: np.ndarray, zhi: np.ndarray, fresh: bool = False,
+               force: bool = False) -> np.ndarray:
         """Trim boxes (k, 2, 3) for cutters spanning Z ranges [zlo, zhi] (k,): the stock's
         extent within the range (:mod:`vmach.stock.slabs`), inside :meth:`trim_box`. The
         slabs are taken again after every SLAB_REFRESH batches, and for a new path
-        (``fresh``) once FRESH_AFTER batches' worth of cutters were made since — then from the
-        stock as it is, pending cutters subtracted (a stale snapshot is only looser: the stock
-        shrinks; a path cut chunk by chunk does not retake it for every chunk)."""
+        (``fresh``) once FRESH_AFTER batches' worth of cutters were made since — or any, with
+        ``force`` (a path that may make fans, which judge the tool's back by the stock,
+        :meth:`_back_clear`) — then from the stock as it is, pending cutters subtracted (a
+        stale snapshot is only looser: the stock shrinks; a path cut chunk by chunk does not
+        retake it for every chunk)."""
         done = sum(c.batches for c in self._cells)
         made = done + sum(len(c.pending) for c in self._cells) / self.batch
-        if fresh and self.SLABS and self._slabs is not None and made - self._slabs_at >= self.FRESH_AFTER:
+        since = made - self._slabs_at
+        if (fresh and self.SLABS and self._slabs is not None
+                and (since >= self.FRESH_AFTER or (force and since > 0))):
             self._flush_cells()
             done = sum(c.batches for c in self._cells)
             stale = True
