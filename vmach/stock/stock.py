@@ -488,7 +488,7 @@ class Stock(CutterMaker):
         """Trim boxes (k, 2, 3) for cutters spanning Z ranges [zlo, zhi] (k,): the stock's
         extent within the range (:mod:`vmach.stock.slabs`), inside :meth:`trim_box`. The
         slabs are taken again after every SLAB_REFRESH batches, and for a new path
-        (``fresh``) once FRESH_AFTER batches' worth of cutters were made since — or any, with
+        (``fresh``) once FRESH_AFTER batches' worth of cutters were made since — or one, with
         ``force`` (a path that may make fans, which judge the tool's back by the stock,
         :meth:`_back_clear`) — then from the stock as it is, pending cutters subtracted (a
         stale snapshot is only looser: the stock shrinks; a path cut chunk by chunk does not
@@ -497,7 +497,7 @@ class Stock(CutterMaker):
         made = done + sum(len(c.pending) for c in self._cells) / self.batch
         since = made - self._slabs_at
         if (fresh and self.SLABS and self._slabs is not None
-                and (since >= self.FRESH_AFTER or (force and since > 0))):
+                and (since >= self.FRESH_AFTER or (force and since >= 1))):
             self._flush_cells()
             done = sum(c.batches for c in self._cells)
             stale = True
