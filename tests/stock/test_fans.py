@@ -18,7 +18,7 @@ from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
 from vmach.stock import cutters as cutters_module
 from vmach.stock import stock as stock_module
-from vmach.stock.fan import EPS, Prism, covered, plan_fans, prism
+from vmach.stock.fan import EPS, Prism, back_clear, covered, plan_fans, prism
 from vmach.stock.sweep import scallop_bound
 from vmach.tol import tol
 from vmach.tooling import Tool, tool_solid
@@ -315,14 +315,13 @@ def test_fans_are_not_used_where_the_tools_back_lies_in_the_stock(library, monke
     the material, where the hull would fill the notches between neighbouring back faces —
     so no fans. Forced anyway, the fans cut the floor behind the tool deeper than the dense
     cut by several times their bound: the condition is what keeps them right."""
-    import vmach.stock.stock as stock_module
 
     tool = library.lookup("GLOD D40")
     xyzc, phis = _zigzag_case(2)
     fans, dense = _fan_and_dense(tool, xyzc, "cylinder:d=60,l=60")
     assert fans.stats.fans == 0
     assert engine.volume(fans.solid) >= engine.volume(dense.solid) - 1e-9
-    monkeypatch.setattr(stock_module, "back_clear", lambda tips, *a: np.ones(len(tips), bool))
+    monkeypatch.setattr(Stock, "_back_clear", lambda self, tips, *a: np.ones(len(tips), bool))
     forced, _ = _fan_and_dense(tool, xyzc, "cylinder:d=60,l=60")
     assert forced.stats.fans > 0
     rs = np.array([27.0, 28.5, 29.5])
@@ -352,7 +351,7 @@ def test_the_tools_back_is_judged_by_the_stock_within_its_reach(library, monkeyp
     lo_d = floor_hits(dense.solid, phis, rs, top=-10.0)
     dev = tool_solid(tool, 0.002).deviation
     assert np.nanmax(lo_d - lo_f) <= fans.stats.fan_overcut_mm + 2 * dev + 1e-6
-    monkeypatch.setattr(Stock, "_back_clear", lambda self, tips, axes, pr: stock_module.back_clear(
+    monkeypatch.setattr(Stock, "_back_clear", lambda self, tips, axes, pr: back_clear(
         tips, axes, pr, engine.to_mesh(stepped)[0]))
     assert cut(1).stats.fans == 0
 

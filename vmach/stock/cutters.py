@@ -130,7 +130,7 @@ class CutterMaker:
                 # ... and translation hulls for its straight steps
                 straight = [(k, k + 1) for k in range(i, j)
                             if np.linalg.norm(np.cross(axes[k], axes[k + 1])) <= 1e-12]
-                out += self._make_runs(ts, 0, _run_frames(tips, axes, straight, ts.segments))
+                out += self._make_runs(ts, 0, [[f] for f in _run_frames(tips, axes, straight, ts.segments)])
             else:
                 m = material_points(tips[i : j + 1], axes[i : j + 1], omega, q)
                 out.append((engine.subtract(hull, [engine.hull(m)]) if m is not None else hull,
@@ -312,26 +312,38 @@ class CutterMaker:
                         np.stack([q.min(axis=0), q.max(axis=0)])))
         return out
 
-    def _make_runs(self, ts: ToolSolid, k: int, runs: list) -> list[tuple[engine.Solid, np.ndarray]]:
-        """Translation hulls of piece k, one per run (frames (3, 4) of its two extreme poses),
-        trimmed: the hull's shape is written down (:func:`vmach.stock.clip.sweep_shape`) and
-        clipped, without building the untrimmed hull."""
-        if not runs:
+    def _make_runs(self, ts: ToolSolid, k: int, groups: list) -> list[tuple[engine.Solid, np.ndarray]]:
+        """Translation hulls of piece k, one per group of runs (each run the frames (3, 4) of
+        its two extreme poses; a group of more than one run stacks, so that the hull of all is
+        their union, :func:`vmach.stock.sweep.stacked_runs`), trimmed: each run's hull shape is
+        written down (:func:`vmach.stock.clip.sweep_shape`) and clipped, without building the
+        untrimmed hull, and the group's cutter is the hull of its runs' clipped points (the
+        union trimmed is the union of the runs trimmed, whose hull it is)."""
+        if not groups:
             return []
-        sweeps = [sweep_shape(self._tool_shapes(ts)[k], fa, fb) for fa, fb in runs]
-        box = self._boxes(np.array([w.vertices[:, 2].min() for w in sweeps]),
-                          np.array([w.vertices[:, 2].max() for w in sweeps])) if self.trim else None
+        sweeps = [[sweep_shape(self._tool_shapes(ts)[k], fa, fb) for fa, fb in g] for g in groups]
+        box = None
+        if self.trim:
+            box = self._boxes(np.array([min(w.vertices[:, 2].min() for w in g) for g in sweeps]),
+                              np.array([max(w.vertices[:, 2].max() for w in g) for g in sweeps]))
         out = []
-        for r, w in enumerate(sweeps):
-            both = w.vertices
-            lo, hi = both.min(axis=0), both.max(axis=0)
-            if self.trim and not (np.all(lo >= box[r, 0]) and np.all(hi <= box[r, 1])):
-                q = None
-                if not (np.any(hi < box[r, 0]) or np.any(lo > box[r, 1]) or np.any(box[r, 0] > box[r, 1])):
-                    q = clip(w, _IDENTITY, box[r, 0], box[r, 1])[0][0]
-                if q is None:
-                    self.stats.culled += 1
-                    continue
-                both, lo, hi = q, q.min(axis=0), q.max(axis=0)
-            out.append((engine.hull(both), np.stack([lo, hi])))
+        for r, g in enumerate(sweeps):
+            points = []
+            for w in g:
+                both = w.vertices
+                lo, hi = both.min(axis=0), both.max(axis=0)
+                if self.trim and not (np.all(lo >= box[r, 0]) and np.all(hi <= box[r, 1])):
+                    q = None
+                    lo_b, hi_b = box[r]
+                    if not (np.any(hi < lo_b) or np.any(lo > hi_b) or np.any(lo_b > hi_b)):
+                        q = clip(w, _IDENTITY, lo_b, hi_b)[0][0]
+                    if q is None:
+                        continue
+                    both = q
+                points.append(both)
+            if not points:
+                self.stats.culled += 1
+                continue
+            both = np.concatenate(points)
+            out.append((engine.hull(both), np.stack([both.min(axis=0), both.max(axis=0)])))
         return out

@@ -33,14 +33,13 @@ from vmach.stock.cutters import CutterMaker, _run_frames
 from vmach.stock.events import cylinder_boxes, overlap_volume
 from vmach.stock.fan import (
     NO_FANS,
-    back_clear,
     plan_fans,
     prism,
 )
 from vmach.stock.hull import BlankHull, blank_hull, box_corners, hull_of
 from vmach.stock.slabs import Slabs
 from vmach.stock.spec import parse_stock
-from vmach.stock.sweep import plan, run_extremes
+from vmach.stock.sweep import axial_runs, plan, run_extremes, stacked_runs
 from vmach.tol import tol
 from vmach.tooling.model import Tool
 from vmach.tooling.solid import ToolSolid, across, frames, lateral, spun, tool_solid
@@ -62,6 +61,9 @@ class CutStats:
     column cutters (:mod:`vmach.stock.column`) and column_cells : the turns' cells they hold;
     column_overcut_mm : the deepest a column's face chain lies below one of its turns' own, or
     its hull bridges a floor beyond what the path cuts anyway (mm; also in fan_overcut_mm);
+    axial_runs : translation runs along the tool's axis cut as the tool at their inner pose
+    (:meth:`Stock._axial`); stacked_runs : runs cut in one hull with a run they stack on
+    (:func:`vmach.stock.sweep.stacked_runs`);
     sweep_seconds : making cutters; boolean_seconds : batch booleans.
     """
 
@@ -77,6 +79,8 @@ class CutStats:
     cusp_poses: int = 0
     columns: int = 0
     column_cells: int = 0
+    axial_runs: int = 0
+    stacked_runs: int = 0
     column_overcut_mm: float = 0.0
     batches: int = 0
     sweep_seconds: float = 0.0
@@ -317,6 +321,12 @@ class Stock(CutterMaker):
             poses = _outside_runs(poses, fans.runs)
             runs = runs[~_within(runs, fans.runs)]
         fan_runs = fans.runs                      # every step a fan or a column holds
+        if self.trim and len(runs):
+            runs, poses = self._axial(ts, tips, unit, runs, poses, fan_runs)
+        pr = self._prism(ts)
+        groups = (stacked_runs(tips, unit, runs, pr.length) if pr is not None and self.trim
+                  else [[r] for r in range(len(runs))])
+        self.stats.stacked_runs += len(runs) - len(groups)
         cols: list[Column] = []
         if self.columns and len(fans.runs):
             cp = plan_columns(tips, unit, fans, radius=ts.radius,
@@ -330,26 +340,56 @@ class Stock(CutterMaker):
                 poses = np.r_[poses, len(fr) + np.arange(len(more))]
                 key = np.r_[key, at]
                 fr = np.concatenate([fr, more])
-        start = np.concatenate([key, runs[:, 0], fans.runs[:, 0], [c.cells[0, 0] for c in cols]])
-        kind = np.r_[np.zeros(len(poses), int), np.ones(len(runs), int), np.full(len(fans.runs), 2),
+        start = np.concatenate([key, [runs[g, 0].min() for g in groups], fans.runs[:, 0],
+                                [c.cells[0, 0] for c in cols]])
+        kind = np.r_[np.zeros(len(poses), int), np.ones(len(groups), int), np.full(len(fans.runs), 2),
                      np.full(len(cols), 3)]
-        which = np.r_[np.arange(len(poses)), np.arange(len(runs)), np.arange(len(fans.runs)),
+        which = np.r_[np.arange(len(poses)), np.arange(len(groups)), np.arange(len(fans.runs)),
                       np.arange(len(cols))].astype(int)
         order = np.argsort(start, kind="stable")
         for c0 in range(0, len(order), self.CHUNK):
             part = order[c0 : c0 + self.CHUNK]
             chunk_poses = poses[which[part][kind[part] == 0]]
-            ends = [run_extremes(tips, r) for r in runs[which[part][kind[part] == 1]]]
+            chunk_groups = [groups[g] for g in which[part][kind[part] == 1]]
+            ends = [run_extremes(tips, runs[r]) for g in chunk_groups for r in g]
             fan_jobs = [(tips[a : b + 1], unit[a : b + 1], fans.omega[f], fr[a : b + 1], path)
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
             col_jobs = [(cols[c], tips, unit, fr, path) for c in which[part][kind[part] == 3]]
-            run_fr = _run_frames(tips, axes, ends, ts.segments)   # shared by every piece
+            flat = _run_frames(tips, axes, ends, ts.segments)     # shared by every piece
+            sizes = np.cumsum([0] + [len(g) for g in chunk_groups])
+            run_fr = [flat[sizes[i] : sizes[i + 1]] for i in range(len(chunk_groups))]
             jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [], col_jobs if k == 0 else [])
                     for k in range(len(ts.pieces))]
             self.stats.sweep_seconds += time.perf_counter() - t0
             yield ts, jobs
             t0 = time.perf_counter()
         self.stats.sweep_seconds += time.perf_counter() - t0
+
+    def _axial(self, ts: ToolSolid, tips: np.ndarray, unit: np.ndarray, runs: np.ndarray,
+               poses: np.ndarray, fan_runs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(runs, placed poses) with the translation runs along the tool's own axis whose
+        inner pose has the stock in front of its back (:func:`vmach.stock.sweep.axial_runs`,
+        :meth:`_behind`, over the Z range of the run's two ends) replaced by the tool placed at
+        that pose — all such a run removes (a retract from a cut along the tool, an approach to
+        it) — unless a run or fan of the path holds that pose already."""
+        axial, inner = axial_runs(tips, unit, runs)
+        if not axial.any():
+            return runs, poses
+        idx = np.nonzero(axial)[0]
+        ends = np.array([run_extremes(tips, r) for r in runs[idx]], dtype=int)
+        b0 = cylinder_boxes(tips[ends[:, 0]], unit[ends[:, 0]], 0.0, ts.length, ts.radius)
+        b1 = cylinder_boxes(tips[ends[:, 1]], unit[ends[:, 1]], 0.0, ts.length, ts.radius)
+        zlo = np.minimum(b0[:, 0, 2], b1[:, 0, 2])
+        zhi = np.maximum(b0[:, 1, 2], b1[:, 1, 2])
+        gone = idx[self._behind(tips[inner[idx]], unit[inner[idx]], ts.length, zlo, zhi)]
+        if len(gone) == 0:
+            return runs, poses
+        keep = np.ones(len(runs), bool)
+        keep[gone] = False
+        runs = runs[keep]
+        placed = _outside_runs(_outside_runs(np.unique(inner[gone]), runs), fan_runs)
+        self.stats.axial_runs += len(gone)
+        return runs, np.unique(np.r_[poses, placed]).astype(int)
 
     def _cusp_poses(self, tool: Tool, ts: ToolSolid, tips: np.ndarray, fr: np.ndarray, rotary: np.ndarray,
                     fan_runs: np.ndarray, between) -> tuple[np.ndarray, np.ndarray]:
@@ -469,19 +509,28 @@ class Stock(CutterMaker):
     def _back_clear(self, tips: np.ndarray, axes: np.ndarray, pr) -> np.ndarray:
         """(n,) bool: poses (tips, unit axes (n, 3)) whose prism's back face has the stock
         behind it where the fans it may join could fill a notch (:func:`vmach.stock.fan.back_clear`):
-        the whole blank, or — with the trim slabs of the stock as it was last taken (it only
-        shrinks) — the stock within the Z range of this pose's tool and its neighbours' (a
-        notch between two back faces lies in the box of the two tools)."""
-        self._blank_hull()
-        clear = back_clear(tips, axes, pr, self._hull.corners)
-        if self._slabs is None or not self.SLABS or len(tips) == 0:
-            return clear
+        the stock within the Z range of this pose's tool and its neighbours' (a notch between
+        two back faces lies in the box of the two tools; :meth:`_behind`)."""
+        if len(tips) == 0:
+            return np.zeros(0, bool)
         box = cylinder_boxes(tips, axes, 0.0, pr.length, pr.radius)
         lo, hi = box[:, 0, 2], box[:, 1, 2]
         lo = np.minimum(lo, np.minimum(np.r_[lo[:1], lo[:-1]], np.r_[lo[1:], lo[-1:]]))
         hi = np.maximum(hi, np.maximum(np.r_[hi[:1], hi[:-1]], np.r_[hi[1:], hi[-1:]]))
-        behind = self._slabs.support(lo, hi, axes) <= np.einsum("ij,ij->i", tips, axes) + pr.length
-        return clear | behind
+        return self._behind(tips, axes, pr.length, lo, hi)
+
+    def _behind(self, tips: np.ndarray, axes: np.ndarray, length: float, zlo: np.ndarray,
+                zhi: np.ndarray) -> np.ndarray:
+        """(n,) bool: poses (tips, unit axes (n, 3)) with the stock in front of the plane
+        ``length`` behind the tip (the tool's back): the whole blank, or — with the trim slabs
+        of the stock as it was last taken (it only shrinks) — the stock within the Z ranges
+        [zlo, zhi] (n,) (:meth:`vmach.stock.slabs.Slabs.support`)."""
+        self._blank_hull()
+        reach = np.einsum("ij,ij->i", tips, axes) + length
+        clear = (axes @ np.asarray(self._hull.corners, dtype=float).T).max(axis=1) <= reach
+        if self._slabs is not None and self.SLABS:
+            clear |= self._slabs.support(zlo, zhi, axes) <= reach
+        return clear
 
     def _boxes(self, zlo: np.ndarray, zhi: np.ndarray, fresh: bool = False,
                force: bool = False) -> np.ndarray:
