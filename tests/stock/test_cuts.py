@@ -347,3 +347,22 @@ def test_plunges_repeated_deeper_along_the_tool_are_cut_as_one_hull(face40):
         assert parts[0].volume == pytest.approx(parts[1].volume, rel=1e-10)
         made = [p.stats.cutters + p.stats.culled for p in parts]       # cutters made, kept or not
         assert made[0] == made[1] - stacked
+
+
+def test_a_cutter_beyond_the_stock_along_its_tool_axis_is_culled(face40):
+    """After the retract, the move up at X + 10 lies wholly beyond the stock along the tool's
+    axis (its face 36 mm out, the stock 30) though its box meets the stock's box: it is
+    culled, and the part is the same as with it cut."""
+    from vmach.stock import cutters as cutters_module
+
+    parts = []
+    for cull in (True, False):
+        with pytest.MonkeyPatch.context() as mp:
+            if not cull:
+                mp.setattr(cutters_module.CutterMaker, "_apart",
+                           lambda self, points, axes: np.zeros(len(points), bool))
+            stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
+            stock.cut(face40, *_plunges([26.0], c=45.0))       # at 45°: its box meets the stock's
+            parts.append(stock)
+    assert parts[0].stats.culled == parts[1].stats.culled + 1
+    assert parts[0].volume == pytest.approx(parts[1].volume, rel=1e-12)

@@ -303,9 +303,10 @@ class CutterMaker:
                     for j in range(len(fr))]
         pose_box = self._boxes(placed[:, :, 2].min(axis=1), placed[:, :, 2].max(axis=1))
         trimmed, inside = clip(self._tool_shapes(ts)[k], fr, pose_box[:, 0], pose_box[:, 1])
+        apart = self._apart(trimmed, fr[:, :, 2])
         out = []
         for j, q in enumerate(trimmed):
-            if q is None:
+            if q is None or apart[j]:
                 self.stats.culled += 1
                 continue
             out.append((engine.transform(solid, fr[j]) if inside[j] else engine.hull(q),
@@ -341,9 +342,29 @@ class CutterMaker:
                         continue
                     both = q
                 points.append(both)
-            if not points:
+            if not points or self._apart([np.concatenate(points)], groups[r][0][0][None, :, 2])[0]:
                 self.stats.culled += 1
                 continue
             both = np.concatenate(points)
             out.append((engine.hull(both), np.stack([both.min(axis=0), both.max(axis=0)])))
+        return out
+
+    def _apart(self, points: list, axes: np.ndarray) -> np.ndarray:
+        """(m,) bool: cutters (their points (p, 3) each, or None) that lie wholly beyond the
+        stock along their tool's axis (m, 3) — every point further out along it than the
+        stock reaches within the cutter's Z range, by the trim slabs (the stock as last taken:
+        it only shrinks; :meth:`vmach.stock.slabs.Slabs.support`): a tool moved away from the
+        part (a rapid up beside it after a retract) whose box still meets the stock's box."""
+        out = np.zeros(len(points), bool)
+        if self._slabs is None or not self.SLABS:
+            return out
+        idx = [j for j, q in enumerate(points) if q is not None and len(q)]
+        if not idx:
+            return out
+        a = np.asarray(axes, dtype=float)[idx]
+        a = a / np.linalg.norm(a, axis=1, keepdims=True)
+        near = np.array([float((points[j] @ a[i]).min()) for i, j in enumerate(idx)])
+        zlo = np.array([points[j][:, 2].min() for j in idx])
+        zhi = np.array([points[j][:, 2].max() for j in idx])
+        out[idx] = near > self._slabs.support(zlo, zhi, a) + 1e-9
         return out
