@@ -24,14 +24,18 @@ of consecutive turns makes a column (``turns`` at most).
 makes and bounds it), and why that is no more than the true motion removes or within the
 fans' bound:
 
-- *Inside the wedge every turn sweeps everything.* A cell begins before its sector and ends
-  after it (the wedge's planes pass through the path at the sector's bounding angles, moved
-  ``overlap``/2 outward so that neighbouring columns overlap instead of sharing a plane), so
-  its tool's centre line passes over every point of the wedge; at any height a tool reaches
-  (within its inscribed radius of the tip along ω) the turn sweeps the wedge beyond its own
-  face chain. Consecutive cells lie less than two inscribed radii apart along ω
-  (``_stacked``), so every height between the highest and the lowest cell is reached, and
-  H ∩ W holds nothing there that a turn does not sweep — except below a face chain (below).
+- *Inside the wedge every turn sweeps everything.* The wedge's planes contain ω and pass
+  through the face chain's crease at the sector's bounding angles (averaged over every turn
+  that passes there, so that every column uses the same plane at a boundary), moved
+  ``overlap`` outward so that neighbouring columns overlap instead of sharing a plane. Each
+  cell is made long enough (:func:`_extend`) that its end poses' tool axis lines lie beyond
+  the planes, so its tool's centre line passes over every point of the wedge — at any height
+  the tool reaches (within its inscribed radius of the tip along ω) the turn sweeps the wedge
+  beyond its own face chain — and that the chain's creases at its ends lie beyond them too,
+  so that within the wedge its own faces make the whole chain. Consecutive cells lie less
+  than two inscribed radii apart along ω (``_stacked``), so every height between the highest
+  and the lowest cell is reached, and H ∩ W holds nothing there that a turn does not sweep —
+  except below a face chain (below).
 - *The face chain.* K cuts to the chain of every face plane of the column; at a height only
   some turns reach, the true motion cuts to theirs. Where the turns follow one profile the
   two agree to the sampling (a finer tangent polygon than one turn's); where they do not (a
