@@ -434,25 +434,6 @@ def _clip_box(lines: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return poly
 
 
-def material_prism(column: Column, tips: np.ndarray, axes: np.ndarray, around: np.ndarray,
-                   eps: float) -> np.ndarray | None:
-    """Vertices (k, 3) of M — the material below every face plane of the column's poses,
-    moved out by ``eps`` — as a prism along omega over the points ``around`` (m, 3) (the
-    hull's) and a millimetre more; None if empty."""
-    om = column.omega
-    u, v = _basis(om)
-    idx = column.poses
-    lines = _lines(tips[idx], axes[idx], u, v)
-    lines[:, 2] += eps
-    lo, hi = _box(around, u, v)
-    base = polygon(lines, lo, hi)
-    if len(base) < 3:
-        return None
-    w = around @ om
-    flat = base[:, :1] * u + base[:, 1:] * v
-    return np.vstack([flat + (w.min() - 1.0) * om, flat + (w.max() + 1.0) * om])
-
-
 def chain_depth(column_lines: np.ndarray, own_lines: np.ndarray, box) -> float:
     """How far (mm) the chain of ``column_lines`` (m, 3) lies below the polygon of
     ``own_lines`` (k, 3) (which may include a wedge's lines): the largest excess of a column

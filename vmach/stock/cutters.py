@@ -16,7 +16,7 @@ import numpy as np
 
 from vmach.stock import engine
 from vmach.stock.clip import clip, sweep_shape
-from vmach.stock.column import Column, material_prism
+from vmach.stock.column import Column
 from vmach.stock.fan import (
     EPS,
     covered,
@@ -233,7 +233,8 @@ class CutterMaker:
             self.stats.culled += 1
             return None
         gaps, hidden = self._column_bridges(col, tips, unit, fr, box, hull, path, pr)
-        m = material_prism(col, tips, unit, q, EPS)
+        idx = col.poses                        # M: below every face plane of the column's poses
+        m = material_points(tips[idx], unit[idx], col.omega, q)
         cutter = engine.subtract(hull, [engine.hull(m)]) if m is not None else hull
         return cutter, np.stack([q.min(axis=0), q.max(axis=0)]), gaps, hidden
 
@@ -342,10 +343,10 @@ class CutterMaker:
                         continue
                     both = q
                 points.append(both)
-            if not points or self._apart([np.concatenate(points)], groups[r][0][0][None, :, 2])[0]:
+            both = np.concatenate(points) if points else None
+            if both is None or self._apart([both], groups[r][0][0][None, :, 2])[0]:
                 self.stats.culled += 1
                 continue
-            both = np.concatenate(points)
             out.append((engine.hull(both), np.stack([both.min(axis=0), both.max(axis=0)])))
         return out
 

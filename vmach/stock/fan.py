@@ -341,7 +341,8 @@ def _rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.nd
 
 def back_clear(tips: np.ndarray, axes: np.ndarray, tool: Prism, solid: np.ndarray) -> np.ndarray:
     """(n,) bool: poses (tips, unit axes (n, 3)) whose prism has the whole of ``solid`` (its
-    vertices (v, 3): the blank, which holds the stock) behind its back face.
+    vertices (v, 3): the blank, which holds the stock) behind its back face, ``tool.length``
+    behind the tip (only that is used: a ToolSolid serves as well).
 
     Why fans need it: the tools of a run stand side by side like the faces of a fan; seen
     from behind, their back faces meet in notches (two neighbouring back faces cross at a

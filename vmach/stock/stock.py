@@ -33,6 +33,7 @@ from vmach.stock.cutters import CutterMaker, _run_frames
 from vmach.stock.events import cylinder_boxes, overlap_volume
 from vmach.stock.fan import (
     NO_FANS,
+    back_clear,
     plan_fans,
     prism,
 )
@@ -381,7 +382,7 @@ class Stock(CutterMaker):
         b1 = cylinder_boxes(tips[ends[:, 1]], unit[ends[:, 1]], 0.0, ts.length, ts.radius)
         zlo = np.minimum(b0[:, 0, 2], b1[:, 0, 2])
         zhi = np.maximum(b0[:, 1, 2], b1[:, 1, 2])
-        gone = idx[self._behind(tips[inner[idx]], unit[inner[idx]], ts.length, zlo, zhi)]
+        gone = idx[self._behind(tips[inner[idx]], unit[inner[idx]], ts, zlo, zhi)]
         if len(gone) == 0:
             return runs, poses
         keep = np.ones(len(runs), bool)
@@ -517,18 +518,19 @@ class Stock(CutterMaker):
         lo, hi = box[:, 0, 2], box[:, 1, 2]
         lo = np.minimum(lo, np.minimum(np.r_[lo[:1], lo[:-1]], np.r_[lo[1:], lo[-1:]]))
         hi = np.maximum(hi, np.maximum(np.r_[hi[:1], hi[:-1]], np.r_[hi[1:], hi[-1:]]))
-        return self._behind(tips, axes, pr.length, lo, hi)
+        return self._behind(tips, axes, pr, lo, hi)
 
-    def _behind(self, tips: np.ndarray, axes: np.ndarray, length: float, zlo: np.ndarray,
+    def _behind(self, tips: np.ndarray, axes: np.ndarray, tool, zlo: np.ndarray,
                 zhi: np.ndarray) -> np.ndarray:
         """(n,) bool: poses (tips, unit axes (n, 3)) with the stock in front of the plane
-        ``length`` behind the tip (the tool's back): the whole blank, or — with the trim slabs
-        of the stock as it was last taken (it only shrinks) — the stock within the Z ranges
-        [zlo, zhi] (n,) (:meth:`vmach.stock.slabs.Slabs.support`)."""
+        ``tool.length`` behind the tip (the tool's back; a Prism or a ToolSolid): the whole
+        blank (:func:`vmach.stock.fan.back_clear`), or — with the trim slabs of the stock as it
+        was last taken (it only shrinks) — the stock within the Z ranges [zlo, zhi] (n,)
+        (:meth:`vmach.stock.slabs.Slabs.support`)."""
         self._blank_hull()
-        reach = np.einsum("ij,ij->i", tips, axes) + length
-        clear = (axes @ np.asarray(self._hull.corners, dtype=float).T).max(axis=1) <= reach
+        clear = back_clear(tips, axes, tool, self._hull.corners)
         if self._slabs is not None and self.SLABS:
+            reach = np.einsum("ij,ij->i", tips, axes) + tool.length
             clear |= self._slabs.support(zlo, zhi, axes) <= reach
         return clear
 
