@@ -145,43 +145,55 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
     Pt = P[todo]                                                              # (c, p, 3)
     c = len(todo)
     blo, bhi = lo[todo], hi[todo]                                             # (c, 3)
+    tlo, thi = plo[todo], phi[todo]
     keep = np.all((Pt >= blo[:, None]) & (Pt <= bhi[:, None]), axis=2)         # (c, p)
     which, vert = np.nonzero(keep)
     idx: list[np.ndarray] = [which]
     pts: list[np.ndarray] = [Pt[which, vert]]
-    A, B = Pt[:, sh.edges[:, 0]], Pt[:, sh.edges[:, 1]]                      # (c, e, 3)
+    A_all, B_all = Pt[:, sh.edges[:, 0]], Pt[:, sh.edges[:, 1]]                      # (c, e, 3)
     for ax in range(3):
         other = [i for i in range(3) if i != ax]
         for val in (blo[:, ax], bhi[:, ax]):
-            da, db = A[:, :, ax] - val[:, None], B[:, :, ax] - val[:, None]
-            which, edge = np.nonzero((da > 0) != (db > 0))
-            if len(which) == 0:
+            # only copies with vertices on both sides of the plane have edges that cross it
+            rows = np.nonzero((tlo[:, ax] <= val) & (thi[:, ax] > val))[0]
+            if len(rows) == 0:
                 continue
-            s = da[which, edge] / (da[which, edge] - db[which, edge])
-            a, b = A[which, edge], B[which, edge]
+            v = val[rows]
+            da, db = A_all[rows, :, ax] - v[:, None], B_all[rows, :, ax] - v[:, None]
+            w, edge = np.nonzero((da > 0) != (db > 0))
+            if len(w) == 0:
+                continue
+            s = da[w, edge] / (da[w, edge] - db[w, edge])
+            a, b = A_all[rows[w], edge], B_all[rows[w], edge]
             x = a + (b - a) * s[:, None]
+            which = rows[w]
             x[:, ax] = val[which]
             ok = np.all((x[:, other] >= blo[which][:, other]) & (x[:, other] <= bhi[which][:, other]), axis=1)
             idx.append(which[ok])
             pts.append(x[ok])
-    # the box's edges clipped by each copy's face planes (Cyrus-Beck)
+    # the box's edges clipped by each copy's face planes (Cyrus-Beck), for the edges that
+    # pass through the copy's bounding box (no other can meet it)
     q0, dq = _box_edges(blo, bhi)                                             # (c, 12, 3)
-    N = sh.planes[:, :3] @ rot[todo].transpose(0, 2, 1)                       # (c, f, 3)
-    D = sh.planes[None, :, 3] + np.matmul(N, t[todo][:, :, None])[:, :, 0]     # (c, f)
-    nd = np.matmul(dq, N.transpose(0, 2, 1))                                  # (c, 12, f)
-    num = D[:, None, :] - np.matmul(q0, N.transpose(0, 2, 1))                # s * nd <= num
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = num / nd
-    s0 = np.maximum(np.where(nd < 0, r, -np.inf).max(axis=2), 0.0)
-    s1 = np.minimum(np.where(nd > 0, r, np.inf).min(axis=2), 1.0)
-    blocked = ((nd == 0) & (num < 0)).any(axis=2)
-    which, edge = np.nonzero((s0 <= s1) & ~blocked)
-    if len(which):
-        start, step = q0[which, edge], dq[which, edge]
+    near = np.all((dq != 0) | ((q0 >= tlo[:, None]) & (q0 <= thi[:, None])), axis=2)   # (c, 12)
+    w, edge = np.nonzero(near)
+    if len(w):
+        start, step = q0[w, edge], dq[w, edge]                                # (k, 3)
+        N = sh.planes[:, :3] @ rot[todo].transpose(0, 2, 1)                   # (c, f, 3)
+        D = sh.planes[None, :, 3] + np.matmul(N, t[todo][:, :, None])[:, :, 0]   # (c, f)
+        Nk = N[w]                                                             # (k, f, 3)
+        nd = np.matmul(Nk, step[:, :, None])[:, :, 0]                         # (k, f)
+        num = D[w] - np.matmul(Nk, start[:, :, None])[:, :, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = num / nd
+        s0 = np.maximum(np.where(nd < 0, r, -np.inf).max(axis=1), 0.0)
+        s1 = np.minimum(np.where(nd > 0, r, np.inf).min(axis=1), 1.0)
+        blocked = ((nd == 0) & (num < 0)).any(axis=1)
+        ok = (s0 <= s1) & ~blocked
+        start, step, w = start[ok], step[ok], w[ok]
         fixed = step == 0
-        for s in (s0[which, edge], s1[which, edge]):
-            idx.append(which)
-            pts.append(np.where(fixed, start, start + step * s[:, None]))
+        for s_ in (s0[ok], s1[ok]):
+            idx.append(w)
+            pts.append(np.where(fixed, start, start + step * s_[:, None]))
     allidx = np.concatenate(idx)
     allpts = np.concatenate(pts)
     order = np.argsort(allidx, kind="stable")
