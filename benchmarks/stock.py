@@ -24,12 +24,17 @@ Cases
   blank; ``helix-naive N`` one hull per move.
 
 Figures on a loaded 2-core machine vary by tens of percent: ``--repeat`` runs each case N
-times and prints the fastest, and every run's total (docs/stock.md says which).
+times and prints the fastest, and every run's total (docs/stock.md says which). How fast the
+machine is on the day: ``machine`` lines, first and last, time a fixed workload that runs no
+vmach code — 256 placed Ø25 cylinders subtracted from a Ø60 cylinder in four checked batch
+booleans (manifold3d, both cores), and a numpy loop of small array operations like the sweep's
+(one core) — fastest of three; the program's figures scale with them from day to day.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import multiprocessing as mp
 import resource
 import sys
@@ -212,6 +217,64 @@ def line(r: dict) -> str:
             f"peak {r['peak_mb']:6.0f} MB{dev}")
 
 
+def machine_figure() -> str:
+    """The ``machine`` line: seconds of a fixed manifold3d and numpy workload (no vmach code),
+    fastest of three — in a child process like every case: manifold3d's thread pool (TBB)
+    started in this process would not survive the fork of the cases that follow (they ran
+    1.3–1.5 times slower when it had)."""
+    ctx = mp.get_context("fork")
+    a, b = ctx.Pipe()
+    p = ctx.Process(target=_machine_child, args=(b,))
+    p.start()
+    out = a.recv()
+    p.join()
+    return out
+
+
+def _machine_child(conn) -> None:
+    conn.send(_machine_line())
+    conn.close()
+
+
+def _machine_line() -> str:
+    import manifold3d as m3d
+
+    def booleans() -> float:
+        t0 = time.perf_counter()
+        stock = m3d.Manifold.cylinder(100.0, 30.0, 30.0, 192).translate((0.0, 0.0, -100.0))
+        tool = m3d.Manifold.cylinder(30.0, 12.5, 12.5, 56)
+        for b in range(4):
+            batch = []
+            for i in range(64):
+                k = 64 * b + i
+                c, zc = math.radians(1.713 * k), -5.0 - 0.06 * k
+                # the tool's axis radial, its face 20 mm from the shaft's axis
+                pose = tool.rotate((0.0, 90.0, 0.0)).translate((20.0, 3.0 * math.sin(3 * c), zc))
+                batch.append(pose.rotate((0.0, 0.0, math.degrees(c))))
+            stock = m3d.Manifold.batch_boolean([stock, *batch], m3d.OpType.Subtract)
+            if stock.status() != m3d.Error.NoError:
+                raise RuntimeError("calibration boolean failed")
+        return time.perf_counter() - t0
+
+    def arrays() -> float:
+        rng = np.random.default_rng(1)
+        pts = rng.normal(size=(64, 3))
+        rot = rng.normal(size=(256, 3, 3))
+        t0 = time.perf_counter()
+        acc = 0.0
+        for _ in range(200):
+            placed = pts @ rot.transpose(0, 2, 1)                          # (256, 64, 3)
+            lo, hi = placed.min(axis=1), placed.max(axis=1)
+            n = np.cross(placed[:, 1:] - placed[:, :1], placed[:, 2:3] - placed[:, :1])
+            acc += float(np.einsum("ijk,ijk->", n, n)) + float((hi - lo).sum())
+            acc += float(np.nonzero(np.linalg.norm(placed, axis=2) > 1.5)[0].size)
+        return time.perf_counter() - t0
+
+    b = min(booleans() for _ in range(3))
+    a = min(arrays() for _ in range(3))
+    return f"machine          fixed workload: booleans {b:5.2f} s (2 cores)  arrays {a:5.2f} s (1 core)"
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--program", help="NC program (default: the split reference, else POLY50.MPF)")
@@ -225,6 +288,7 @@ def main(argv=None) -> int:
     acc = ACCURACY[args.accuracy]
     PRESET.update(chord=acc.tool_chord, cusp=acc.sweep_cusp)
     print(f"vmach stock removal benchmark ({args.accuracy} accuracy; 2-core figures in docs/stock.md)")
+    print(machine_figure(), flush=True)
     kinds = ["program", "program-checked"] + ([] if args.quick else ["program-before", "program-naive"])
     for kind in kinds:
         once = kind in ("program-before", "program-naive")    # minutes each: run once
@@ -236,6 +300,7 @@ def main(argv=None) -> int:
         for n in sizes[:2]:
             print(line(run_case("helix-before", n, repeat=args.repeat)), flush=True)
         print(line(run_case("helix-naive", 1000, repeat=1)), flush=True)
+    print(machine_figure(), flush=True)
     return 0
 
 
