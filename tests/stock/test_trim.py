@@ -134,29 +134,40 @@ def test_trimming_to_the_stock_within_each_cutters_z_range_does_not_change_the_c
 
 def test_a_translation_sweeps_written_down_shape_clips_like_its_hull(d25_shape):
     """sweep_shape (vmach/stock/clip.py) gives the hull of a piece at two poses of one axis
-    without building it: clipped to a box, the same solid as the built hull clipped."""
-    from vmach.stock.clip import sweep_shape
+    without building it: clipped to a box, the same solid as the built hull clipped — also for
+    travels along the axis, across it (parallel to the caps) and the like, where the planes of
+    edges the travel does not see edge-on are left out."""
+    from vmach.stock.clip import Shape, sweep_shape
 
     ts, sh = d25_shape
+    every_edge = Shape(sh.vertices, sh.edges, sh.planes)      # no normals: every edge's planes
     rng = np.random.default_rng(7)
     lo, hi = np.array([-30.5, -30.5, -40.5]), np.array([30.5, 30.5, 0.5])
     seen = 0
-    for _ in range(30):
+    fewer = 0
+    for i in range(40):
         c = rng.uniform(0, 360)
         a_tips, axes = turnmill(rng.uniform(15, 35), rng.uniform(-8, 8), rng.uniform(-45, 5), c)
-        d = rng.normal(0, 15, 3)
         fa = frames(a_tips, axes)[0]
+        ax, across = fa[:, 2], fa[:, 0]                       # the tool's axis and a lateral
+        d = [rng.normal(0, 15, 3), 9.0 * ax, -7.0 * across, 5.0 * (ax + across),
+             6.0 * np.cross(ax, across)][i % 5]
         fb = frames(a_tips + d, axes)[0]
         ident = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
-        mine = clip(sweep_shape(sh, fa, fb), ident, lo, hi)[0][0]
+        w = sweep_shape(sh, fa, fb)
+        fewer += len(w.planes) < len(sweep_shape(every_edge, fa, fb).planes)
+        mine = clip(w, ident, lo, hi)[0][0]
         both = np.concatenate([sh.vertices @ fa[:, :3].T + fa[:, 3], sh.vertices @ fb[:, :3].T + fb[:, 3]])
         built = clip(shape(*engine.hull_mesh(both)), ident, lo, hi)[0][0]
         assert (mine is None) == (built is None)
         if mine is None:
             continue
         seen += 1
+        # every point on the hull, and the same solid
+        hb = shape(*engine.hull_mesh(both))
+        assert (mine @ hb.planes[:, :3].T - hb.planes[:, 3]).max() < 1e-9
         assert engine.volume(engine.hull(mine)) == pytest.approx(engine.volume(engine.hull(built)), rel=1e-9)
-    assert seen > 10
+    assert seen > 15 and fewer >= 30
 
 
 def test_slab_boxes_hold_the_stock_and_share_no_plane():

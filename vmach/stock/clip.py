@@ -37,11 +37,14 @@ class Shape:
     edges : (e, 2) int — vertex index pairs (triangle edges; diagonals of planar faces are
         harmless: their crossings lie on the polytope).
     planes : (f, 4) float — ``n·x <= d`` for every face, unit n.
+    edge_normals : (e, 2, 3) float or None — unit normals of the two triangles at each edge
+        (:func:`sweep_shape` keeps the planes of the edges its travel sees edge-on).
     """
 
     vertices: np.ndarray
     edges: np.ndarray
     planes: np.ndarray
+    edge_normals: np.ndarray | None = None
 
 
 def shape(vertices: np.ndarray, faces: np.ndarray) -> Shape:
@@ -64,13 +67,17 @@ def shape(vertices: np.ndarray, faces: np.ndarray) -> Shape:
     # a closed mesh has every edge twice: pairs (2i, 2i+1) after sorting
     first, second = tri[0::2], tri[1::2]
     bend = np.einsum("ij,ij->i", unit[first], unit[second]) < 1.0 - 1e-12
-    edges = key[0::2][bend | ~good[first] | ~good[second]]
+    kept = bend | ~good[first] | ~good[second]
+    edges = key[0::2][kept]
+    # an edge next to a sliver has no trustworthy normals: None marks it seen edge-on always
+    normals = np.where((good[first] & good[second])[kept][:, None, None],
+                       np.stack([unit[first], unit[second]], axis=1)[kept], np.nan)
     d = np.einsum("ij,ij->i", unit[good], a[good])
     planes = np.column_stack([unit[good], d])
     # one plane per face, not per triangle
     _, first_of = np.unique(np.round(planes / np.array([1e-9, 1e-9, 1e-9, 1e-9 * scale])),
                             axis=0, return_index=True)
-    return Shape(v, edges, planes[np.sort(first_of)])
+    return Shape(v, edges, planes[np.sort(first_of)], normals)
 
 
 def sweep_shape(sh: Shape, frame_a: np.ndarray, frame_b: np.ndarray) -> Shape:
@@ -80,7 +87,11 @@ def sweep_shape(sh: Shape, frame_a: np.ndarray, frame_b: np.ndarray) -> Shape:
     the hull's edges (the rest lie inside it, and their crossings add nothing). Planes: the
     piece's face normals and, for every edge, the two normals of the plane through it and
     the travel, each at the vertices' support — supporting planes that include every facet
-    of the hull, so they cut it out exactly."""
+    of the hull, so they cut it out exactly. Only edges the travel sees edge-on (its two
+    triangles' normals on either side of it, n₁·d and n₂·d of opposite signs) make facets
+    of the hull of their own (the sides of the swept silhouette); the other edges' planes are
+    left out, which changes nothing: each only supports the hull at that edge, or is the
+    plane of a face parallel to the travel, which the face's own plane gives."""
     p = len(sh.vertices)
     va = sh.vertices @ frame_a[:, :3].T + frame_a[:, 3]
     vb = sh.vertices @ frame_b[:, :3].T + frame_b[:, 3]
@@ -89,6 +100,11 @@ def sweep_shape(sh: Shape, frame_a: np.ndarray, frame_b: np.ndarray) -> Shape:
     edges = np.concatenate([e, e + p, np.column_stack([np.arange(p), np.arange(p) + p])])
     d = frame_b[:, 3] - frame_a[:, 3]
     normals = [sh.planes[:, :3] @ frame_a[:, :3].T]
+    if sh.edge_normals is not None:
+        s = sh.edge_normals @ (frame_a[:, :3].T @ d)                      # (e, 2) in the tool frame
+        eps = 1e-12 * max(1.0, float(np.linalg.norm(d)))
+        seen = ((s[:, 0] > eps) & (s[:, 1] < -eps)) | ((s[:, 0] < -eps) & (s[:, 1] > eps))
+        e = e[seen | np.isnan(s).any(axis=1)]
     side = np.cross(va[e[:, 1]] - va[e[:, 0]], d)
     length = np.linalg.norm(side, axis=1)
     keep = length > 1e-12 * max(1.0, float(np.linalg.norm(d))) * max(1.0, float(np.abs(va).max()))
