@@ -16,8 +16,9 @@ import pytest
 from tests.stock.conftest import turnmill
 from tests.stock.test_fans import floor_hits, inward, true_floor
 from vmach.stock import Stock, engine
-from vmach.stock.column import _clip_box, plan_columns, polygon
+from vmach.stock.column import plan_columns
 from vmach.stock.fan import back_clear, plan_fans, prism
+from vmach.stock.halfplanes import clip_box, polygon
 from vmach.tol import tol
 from vmach.tooling import tool_solid
 
@@ -58,7 +59,7 @@ def test_the_dual_polygon_is_the_box_clipped_by_every_half_plane(seed):
     if seed % 4 == 3:               # a line facing the other way, beyond the others: empty
         lines = np.vstack([lines, [-np.cos(ang[0]), -np.sin(ang[0]), -40.0]])
     lo, hi = np.array([-70.0, -60.0]), np.array([65.0, 80.0])
-    a, b = polygon(lines, lo, hi), _clip_box(lines, lo, hi)
+    a, b = polygon(lines, lo, hi), clip_box(lines, lo, hi)
     assert len(a) == 0 if len(b) == 0 else len(a) >= 3
     if len(b):
         near = lambda p, q: np.linalg.norm(p[:, None] - q[None], axis=2).min(axis=1).max()  # noqa: E731

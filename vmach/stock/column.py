@@ -61,6 +61,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vmach.stock.fan import NO_FANS, PARALLEL, FanPlan, _basis
+from vmach.stock.halfplanes import polygon
 from vmach.tol import tol
 
 #: a cell's stretch of fan steps must go on this far (mm of tip travel) beyond the tool's
@@ -342,96 +343,6 @@ def _crossing(l0: np.ndarray, l1: np.ndarray) -> np.ndarray | None:
     if abs(det) <= 1e-12:
         return None
     return np.array([(l0[2] * l1[1] - l1[2] * l0[1]) / det, (l0[0] * l1[2] - l1[0] * l0[2]) / det])
-
-
-def polygon(lines: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Vertices (k, 2) of the convex polygon {x : a·x + b·y <= c for every line (m, 3)} inside
-    the box [lo, hi] (2,); (0, 2) when empty.
-
-    The lines' region is found through its dual: with a point p0 strictly inside every
-    half-plane, line (n, c) maps to the point n / (c − n·p0), and the region's corners are the
-    crossings of the lines whose dual points are neighbours on the dual points' convex hull
-    (:func:`_hull2d`). p0 is sought where the lines' normals agree (behind their mean normal);
-    if none is found strictly inside, the box is clipped by each half-plane in turn instead
-    (Sutherland–Hodgman)."""
-    lines = np.asarray(lines, dtype=float).reshape(-1, 3)
-    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
-    box = np.array([[-1.0, 0.0, -lo[0]], [1.0, 0.0, hi[0]], [0.0, -1.0, -lo[1]], [0.0, 1.0, hi[1]]])
-    every = np.vstack([lines, box])
-    p0 = _inside(every, lo, hi)
-    if p0 is None:
-        return _clip_box(lines, lo, hi)
-    slack = every[:, 2] - every[:, :2] @ p0
-    ring = _hull2d(every[:, :2] / slack[:, None])
-    a, b = every[ring], every[np.roll(ring, -1)]
-    det = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
-    good = np.abs(det) > 1e-15
-    a, b, det = a[good], b[good], det[good]
-    return np.column_stack([(a[:, 2] * b[:, 1] - b[:, 2] * a[:, 1]) / det,
-                            (a[:, 0] * b[:, 2] - b[:, 0] * a[:, 2]) / det])
-
-
-def _hull2d(points: np.ndarray) -> np.ndarray:
-    """Indices of the points (m, 2) on their convex hull, counter-clockwise (Andrew's monotone
-    chain; points on an edge left out)."""
-    order = np.lexsort((points[:, 1], points[:, 0]))
-    p = points[order]
-
-    def half(idx):
-        out: list[int] = []
-        for i in idx:
-            while len(out) >= 2:
-                o, a = p[out[-2]], p[out[-1]]
-                if (a[0] - o[0]) * (p[i][1] - o[1]) - (a[1] - o[1]) * (p[i][0] - o[0]) > 0:
-                    break
-                out.pop()
-            out.append(i)
-        return out
-
-    lower = half(range(len(p)))
-    upper = half(range(len(p) - 1, -1, -1))
-    return order[np.array(lower[:-1] + upper[:-1], dtype=int)]
-
-
-def _inside(lines: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray | None:
-    """A point strictly inside every half-plane of ``lines`` (m, 3) — tried along the mean
-    normal behind the centre of the box's face-line feet, and at the box's centre — or None."""
-    n = lines[:, :2]
-    mean = n[:-4].sum(axis=0) if len(n) > 4 else np.zeros(2)
-    tries = [0.5 * (lo + hi)]
-    norm = float(np.linalg.norm(mean))
-    if norm > 1e-12:
-        m = mean / norm
-        foot = (lines[:-4, 2:3] * n[:-4]).mean(axis=0)          # near the lines
-        along = n[:-4] @ m
-        if np.all(along > 1e-6):
-            need = float(np.max((n[:-4] @ foot - lines[:-4, 2]) / along))
-            tries.insert(0, foot - (max(need, 0.0) + 1.0) * m)
-    scale = max(1.0, float(np.abs(lines[:, 2]).max()))
-    for p in tries:
-        if np.all(lines[:, :2] @ p - lines[:, 2] < -1e-9 * scale):
-            return p
-    return None
-
-
-def _clip_box(lines: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """The box [lo, hi] clipped by each half-plane of ``lines`` (m, 3) in turn."""
-    poly = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]], dtype=float)
-    for a, b, c in lines:
-        s = poly @ np.array([a, b]) - c                 # > 0: outside
-        if np.all(s <= 0):
-            continue
-        if np.all(s > 0):
-            return np.zeros((0, 2))
-        nxt, sn = np.roll(poly, -1, axis=0), np.roll(s, -1)
-        out = []
-        for p, q, sp, sq in zip(poly, nxt, s, sn, strict=True):
-            if sp <= 0:
-                out.append(p)
-            if (sp <= 0) != (sq <= 0):
-                out.append(p + (q - p) * (sp / (sp - sq)))
-        poly = np.array(out)
-    return poly
 
 
 def chain_depth(column_lines: np.ndarray, own_lines: np.ndarray, box) -> float:

@@ -62,6 +62,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vmach.stock.halfplanes import polygon
 from vmach.tol import tol
 
 #: M's face planes are moved this far outward (mm): the cutter is ε smaller than H \ M, so the
@@ -555,23 +556,13 @@ def material_points(tips: np.ndarray, axes: np.ndarray, omega: np.ndarray, aroun
     """Vertices (k, 3) of M — the material below every face plane of a run, moved out by
     ``eps`` — within a box ``margin`` around the points ``around`` (m, 3) (the hull's), so
     that H \\ M is the fan cutter. All face planes contain omega, so M is a prism along it:
-    the face lines clip a rectangle in the plane perpendicular to omega, whose corners are
-    the crossings of two of its lines that lie on the right side of all the others (taken all
-    at once; the caller hulls them, so their order does not matter). None if empty."""
+    the face lines cut a convex polygon out of a rectangle in the plane perpendicular to
+    omega (:func:`vmach.stock.halfplanes.polygon`). None if empty."""
     u, v = _basis(omega)
     pu, pv, pw = around @ u, around @ v, around @ omega
     lo, hi = np.array([pu.min(), pv.min()]) - margin, np.array([pu.max(), pv.max()]) + margin
-    n = np.vstack([np.column_stack([axes @ u, axes @ v]), [[-1.0, 0.0], [1.0, 0.0], [0.0, -1.0], [0.0, 1.0]]])
-    c = np.r_[np.einsum("ij,ij->i", tips, axes) + eps, -lo[0], hi[0], -lo[1], hi[1]]
-    i, j = np.triu_indices(len(n), 1)
-    det = n[i, 0] * n[j, 1] - n[i, 1] * n[j, 0]
-    ok = np.abs(det) > 1e-12
-    i, j, det = i[ok], j[ok], det[ok]
-    x = (c[i] * n[j, 1] - c[j] * n[i, 1]) / det
-    y = (n[i, 0] * c[j] - n[j, 0] * c[i]) / det
-    p = np.column_stack([x, y])
-    slack = 1e-9 * max(1.0, float(np.abs(c).max()))
-    p = p[np.all(p @ n.T <= c + slack, axis=1)]
+    lines = np.column_stack([axes @ u, axes @ v, np.einsum("ij,ij->i", tips, axes) + eps])
+    p = polygon(lines, lo, hi)
     if len(p) < 3 or np.ptp(p[:, 0]) * np.ptp(p[:, 1]) <= 0.0:
         return None
     base = p[:, :1] * u + p[:, 1:] * v
