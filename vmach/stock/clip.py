@@ -38,7 +38,8 @@ class Shape:
         harmless: their crossings lie on the polytope).
     planes : (f, 4) float — ``n·x <= d`` for every face, unit n.
     edge_normals : (e, 2, 3) float or None — unit normals of the two triangles at each edge
-        (:func:`sweep_shape` keeps the planes of the edges its travel sees edge-on).
+        (NaN next to a sliver; :func:`sweep_shape` keeps the planes of the edges its travel
+        sees edge-on).
     """
 
     vertices: np.ndarray
@@ -69,7 +70,7 @@ def shape(vertices: np.ndarray, faces: np.ndarray) -> Shape:
     bend = np.einsum("ij,ij->i", unit[first], unit[second]) < 1.0 - 1e-12
     kept = bend | ~good[first] | ~good[second]
     edges = key[0::2][kept]
-    # an edge next to a sliver has no trustworthy normals: None marks it seen edge-on always
+    # an edge next to a sliver has no trustworthy normals: NaN, and it counts as seen edge-on
     normals = np.where((good[first] & good[second])[kept][:, None, None],
                        np.stack([unit[first], unit[second]], axis=1)[kept], np.nan)
     d = np.einsum("ij,ij->i", unit[good], a[good])
@@ -166,7 +167,7 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
     which, vert = np.nonzero(keep)
     idx: list[np.ndarray] = [which]
     pts: list[np.ndarray] = [Pt[which, vert]]
-    A_all, B_all = Pt[:, sh.edges[:, 0]], Pt[:, sh.edges[:, 1]]                      # (c, e, 3)
+    A, B = Pt[:, sh.edges[:, 0]], Pt[:, sh.edges[:, 1]]                      # (c, e, 3)
     for ax in range(3):
         other = [i for i in range(3) if i != ax]
         for val in (blo[:, ax], bhi[:, ax]):
@@ -175,12 +176,12 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
             if len(rows) == 0:
                 continue
             v = val[rows]
-            da, db = A_all[rows, :, ax] - v[:, None], B_all[rows, :, ax] - v[:, None]
+            da, db = A[rows, :, ax] - v[:, None], B[rows, :, ax] - v[:, None]
             w, edge = np.nonzero((da > 0) != (db > 0))
             if len(w) == 0:
                 continue
             s = da[w, edge] / (da[w, edge] - db[w, edge])
-            a, b = A_all[rows[w], edge], B_all[rows[w], edge]
+            a, b = A[rows[w], edge], B[rows[w], edge]
             x = a + (b - a) * s[:, None]
             which = rows[w]
             x[:, ax] = val[which]
