@@ -176,18 +176,26 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
     conn.close()
 
 
+def _in_child(target, *args):
+    """What ``target(*args, conn)`` sends on ``conn``, run in a forked child process (so that
+    its peak memory is its own, and manifold3d's thread pool starts in it: TBB's pool does
+    not survive a fork)."""
+    ctx = mp.get_context("fork")
+    a, b = ctx.Pipe()
+    p = ctx.Process(target=target, args=(*args, b))
+    p.start()
+    out = a.recv()
+    p.join()
+    return out
+
+
 def run_case(kind: str, n: int = 0, program: str | None = None, repeat: int = 1) -> dict:
     """Run a case in a child process ``repeat`` times; the fastest run, with every run's
     total time (``totals``)."""
     best = None
     totals = []
     for _ in range(max(1, repeat)):
-        ctx = mp.get_context("fork")
-        a, b = ctx.Pipe()
-        p = ctx.Process(target=case, args=(kind, n, program, b))
-        p.start()
-        out = a.recv()
-        p.join()
+        out = _in_child(case, kind, n, program)
         totals.append(out["total"])
         if best is None or out["total"] < best["total"]:
             best = out
@@ -222,13 +230,7 @@ def machine_figure() -> str:
     fastest of three — in a child process like every case: manifold3d's thread pool (TBB)
     started in this process would not survive the fork of the cases that follow (they ran
     1.3–1.5 times slower when it had)."""
-    ctx = mp.get_context("fork")
-    a, b = ctx.Pipe()
-    p = ctx.Process(target=_machine_child, args=(b,))
-    p.start()
-    out = a.recv()
-    p.join()
-    return out
+    return _in_child(_machine_child)
 
 
 def _machine_child(conn) -> None:

@@ -61,7 +61,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vmach.stock.fan import NO_FANS, PARALLEL, FanPlan, _basis
-from vmach.stock.halfplanes import polygon
+from vmach.stock.halfplanes import face_lines, polygon
 from vmach.tol import tol
 
 #: a cell's stretch of fan steps must go on this far (mm of tip travel) beyond the tool's
@@ -149,7 +149,7 @@ def _columns(tips, axes, omega, valid, radius, inner, sector, per_turn, turns, o
     travel = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(tips, axis=0), axis=1))]
     spill = radius + SPILL_MARGIN
     u, v = _basis(omega)
-    lines = _lines(tips, axes, u, v)
+    lines = face_lines(tips, axes, u, v)
     # stretches of consecutive steps that turn forward about omega: poses s0 .. s1
     edges = np.diff(np.r_[0, ok.astype(np.int8), 0])
     stretches = list(zip(np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0], strict=True))
@@ -285,7 +285,7 @@ def _column(tips, axes, omega, h, cells, wedge, inner, overcut) -> Column | None
         return None
     u, v = _basis(omega)
     idx = np.concatenate([np.arange(a, b + 1) for a, b in cells])
-    lines = _lines(tips[idx], axes[idx], u, v)
+    lines = face_lines(tips[idx], axes[idx], u, v)
     box = _box(tips[idx], u, v)
     wedge2 = np.column_stack([wedge[:, :3] @ u, wedge[:, :3] @ v, wedge[:, 3]])
     apex = _crossing(wedge2[0], wedge2[1])
@@ -296,7 +296,8 @@ def _column(tips, axes, omega, h, cells, wedge, inner, overcut) -> Column | None
         # the turn's own chain: its cell's face lines and two neighbours' on each side
         near = np.arange(max(a - 2, 0), min(b + 2, len(tips) - 1) + 1)
         near = near[np.abs(axes[near] @ omega) <= PARALLEL]
-        depth = max(depth, chain_depth(lines, np.vstack([_lines(tips[near], axes[near], u, v), wedge2]), box))
+        own = np.vstack([face_lines(tips[near], axes[near], u, v), wedge2])
+        depth = max(depth, chain_depth(lines, own, box))
     if depth > overcut:
         return None
     return Column(cells, np.asarray(omega, dtype=float), np.asarray(wedge, dtype=float), depth)
@@ -317,12 +318,6 @@ def _stacked(heights: np.ndarray, inner: float) -> bool:
     radii apart)?"""
     gaps = np.diff(np.sort(heights))
     return bool(np.all(gaps < 2.0 * inner - 2.0 * SPILL_MARGIN))
-
-
-def _lines(tips: np.ndarray, axes: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Face lines (m, 3) ``(a, b, c)``: a·x + b·y <= c in the plane (u, v) perpendicular to
-    omega — the material side of each pose's face plane (axis (m, 3) outward)."""
-    return np.column_stack([axes @ u, axes @ v, np.einsum("ij,ij->i", tips, axes)])
 
 
 def _box(points: np.ndarray, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

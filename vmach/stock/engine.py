@@ -143,12 +143,9 @@ def _folded(solid: Solid, block: int = 1 << 22) -> bool:
     # each face's farthest vertex, a block of vertices at a time (one (block, f) product and
     # its reduction: a comparison of the whole product costs eight times as much here)
     step = max(1, block // len(n))
-    if step >= len(v):
-        reach = (v @ n.T).max(axis=0)
-    else:
-        reach = np.full(len(n), -np.inf)
-        for i in range(0, len(v), step):
-            np.maximum(reach, (v[i : i + step] @ n.T).max(axis=0), out=reach)
+    reach = np.full(len(n), -np.inf)
+    for i in range(0, len(v), step):
+        np.maximum(reach, (v[i : i + step] @ n.T).max(axis=0), out=reach)
     return bool(np.any(reach - d > limit))                       # beyond a plane, times |n|
 
 

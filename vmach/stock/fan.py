@@ -62,7 +62,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vmach.stock.halfplanes import polygon
+from vmach.stock.halfplanes import face_lines, polygon
 from vmach.tol import tol
 
 #: M's face planes are moved this far outward (mm): the cutter is ε smaller than H \ M, so the
@@ -134,6 +134,14 @@ def _exit(p: np.ndarray, d: np.ndarray, planes: np.ndarray, limit: float) -> np.
     return np.clip(t.min(axis=1), 0.0, limit)
 
 
+def may_fan(rotary: np.ndarray) -> bool:
+    """Whether a path's steps (``rotary`` (n-1,) bool: those that turn the axis) can hold a
+    fan run at all: two steps or more, one of them rotary (:func:`plan_fans` makes none
+    otherwise, and callers need not prepare its arguments)."""
+    rotary = np.asarray(rotary, bool)
+    return len(rotary) >= 2 and bool(rotary.any())
+
+
 def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Prism, *,
               max_angle: float = tol.fan_angle, slides: np.ndarray | None = None,
               clear: np.ndarray | None = None, rim: float = tol.fan_overcut,
@@ -159,7 +167,7 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     tips = np.asarray(tips, dtype=float)
     a = np.asarray(axes, dtype=float)
     n = len(tips)
-    if n < 3 or not np.asarray(rotary).any():
+    if not may_fan(rotary):
         return NO_FANS
     cross = np.cross(a[:-1], a[1:])
     sin = np.linalg.norm(cross, axis=1)
@@ -561,7 +569,8 @@ def material_points(tips: np.ndarray, axes: np.ndarray, omega: np.ndarray, aroun
     u, v = _basis(omega)
     pu, pv, pw = around @ u, around @ v, around @ omega
     lo, hi = np.array([pu.min(), pv.min()]) - margin, np.array([pu.max(), pv.max()]) + margin
-    lines = np.column_stack([axes @ u, axes @ v, np.einsum("ij,ij->i", tips, axes) + eps])
+    lines = face_lines(tips, axes, u, v)
+    lines[:, 2] += eps
     p = polygon(lines, lo, hi)
     if len(p) < 3 or np.ptp(p[:, 0]) * np.ptp(p[:, 1]) <= 0.0:
         return None

@@ -16,6 +16,13 @@ from __future__ import annotations
 import numpy as np
 
 
+def face_lines(tips: np.ndarray, axes: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Face lines (m, 3) ``(a, b, c)``: a·x + b·y <= c in the plane (u, v) perpendicular to a
+    rotation axis omega — the material side of each pose's face plane (tips, outward unit
+    axes (m, 3), both planes containing omega)."""
+    return np.column_stack([axes @ u, axes @ v, np.einsum("ij,ij->i", tips, axes)])
+
+
 def polygon(lines: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Vertices (k, 2) of the convex polygon {x : a·x + b·y <= c for every line (m, 3)} inside
     the box [lo, hi] (2,); (0, 2) when empty.

@@ -34,6 +34,7 @@ from vmach.stock.events import cylinder_boxes, overlap_volume
 from vmach.stock.fan import (
     NO_FANS,
     back_clear,
+    may_fan,
     plan_fans,
     prism,
 )
@@ -502,8 +503,8 @@ class Stock(CutterMaker):
         axes (n, 3)) and the ``slides`` between them (:func:`vmach.stock.fan.plan_fans`; none
         unless the tool is one flat-faced prism and fans are on)."""
         pr = self._prism(ts) if self.fans else None
-        if pr is None or len(tips) < 3 or not np.asarray(rotary).any():
-            return NO_FANS                 # (what plan_fans says at once; the back test costs)
+        if pr is None or not may_fan(rotary):
+            return NO_FANS                 # (before the back test, which costs)
         return plan_fans(tips, axes, rotary, pr, slides=slides, clear=self._back_clear(tips, axes, pr),
                          stock_box=self.bounds)
 
