@@ -190,3 +190,75 @@ def test_steps_are_measured_in_blocks_and_above_a_least_cusp_with_the_same_resul
     least = float(np.median(whole))
     above = step_cusps(sd, fr[:-1], fr[1:], everywhere, least)
     assert np.array_equal(above, np.where(whole > least, whole, 0.0))
+
+
+def _whole_poses(monkeypatch):
+    """Cut every added pose whole (no fins)."""
+    import vmach.stock.cutters as cutters_module
+
+    monkeypatch.setattr(cutters_module, "_fin_bucket", lambda half, radius: np.full(len(half), np.inf))
+
+
+def test_added_poses_cut_as_fins_keep_the_side_made_floor_on_the_true_one(monkeypatch):
+    """The Ø10 end mill turned 6 deg per step (the case above), its added poses cut as fins —
+    the true tool (not its polygon) within a slab through its axis across its travel, as wide
+    as the envelope's lenses need: the floor is never below the true floor of the continuous
+    motion, within the stock's ``cusp`` plus the polygon's deviation above it (a step's end
+    poses are whole polygons: between them and the fins the polygon's own bump remains), and
+    closer to it on the whole than with the added poses cut whole (their polygons' V-shaped
+    cusps between imprints)."""
+    tool = Tool(name="flat10", kind="flat", diameter=10.0, cutting_length=20.0)
+    c = np.arange(0.0, 61.0, 6.0)
+    tips, axes = turnmill(12.0, 0.0, -2.0, c)
+
+    def between(steps, parts):
+        at = np.concatenate([s + np.arange(1, p) / p for s, p in zip(steps, parts, strict=True)])
+        t, a = turnmill(12.0, 0.0, -2.0, np.interp(at, np.arange(len(c)), c))
+        return t, a, at
+
+    fins = Stock.from_spec("cylinder:d=30,l=20", fans=False, cusp=0.0025)
+    fins.cut(tool, tips, axes, between)
+    _whole_poses(monkeypatch)
+    whole = Stock.from_spec("cylinder:d=30,l=20", fans=False, cusp=0.0025)
+    whole.cut(tool, tips, axes, between)
+    assert fins.stats.cusp_fins == fins.stats.cusp_poses == whole.stats.cusp_poses > 10
+    assert whole.stats.cusp_fins == 0
+    phis = np.radians(np.linspace(1.0, 59.0, 117))
+    rs = np.linspace(12.2, 14.8, 14)
+    truth = true_floor(phis, rs, 12.0, 5.0, c, np.full(len(c), -2.0))
+    dev = tool_solid(tool, fins.chord).deviation
+    left, left_whole = floor_hits(fins.solid, phis, rs) - truth, floor_hits(whole.solid, phis, rs) - truth
+    assert np.isfinite(left).all()
+    assert np.nanmin(left) >= -1e-6                           # never below the true floor
+    assert np.nanmax(left) <= 0.0025 + dev
+    assert np.mean(left) < 0.8 * np.mean(left_whole)          # measured 0.0021 against 0.0030
+
+
+def test_the_chamfer_cone_cut_with_fins_is_the_whole_poses_cut(tmp_path, monkeypatch):
+    """The chamfer program above (the cone's cusps near its sharp tip, the envelope off the
+    meridian where the tool also moves along its axis): its added poses cut as fins leave
+    the part the whole poses leave, to 1e-3 of the volume they remove either way (fins are
+    the true cone, the whole poses its polygon)."""
+    from catalog import POLYGON_TOOLS
+
+    from interpreters import sinumerik
+    from vmach.machine import load_model
+    from vmach.motion.table import build
+    from vmach.stock import engine
+    from vmach.stock.simulate import simulate
+    from vmach.tooling import load_tools
+
+    path = tmp_path / "CHAMFER.MPF"
+    path.write_text(CHAMFER)
+    model = load_model("turnmill")
+    table = build(sinumerik.run(str(path), model.control).commands, model.control)
+    lib = load_tools(POLYGON_TOOLS)
+    fins = Stock.from_spec("cylinder:d=60,l=20", cusp=0.0025)
+    simulate(table, model, lib, fins)
+    _whole_poses(monkeypatch)
+    whole = Stock.from_spec("cylinder:d=60,l=20", cusp=0.0025)
+    simulate(table, model, lib, whole)
+    assert fins.stats.cusp_fins == whole.stats.cusp_poses > 10
+    removed = engine.volume(whole.initial) - whole.volume
+    assert engine.volume(engine.subtract(whole.solid, [fins.solid])) < 1e-3 * removed
+    assert engine.volume(engine.subtract(fins.solid, [whole.solid])) < 1e-3 * removed

@@ -132,3 +132,43 @@ def test_tool_sizes_beyond_any_machine_are_library_errors(tmp_path):
         "holder = { diameter = 63.0, length = 1e12 }\n",     # 11
     )
     assert got == [("tool_library", 4), ("tool_library", 11)]
+
+
+@pytest.mark.parametrize("half", [0.3, 1.1, 40.0])
+def test_a_fin_is_the_true_tool_within_a_slab_through_its_lateral(library, half):
+    """fin_points: the true tool (not its polygon) within |x·m| <= half about the plane of
+    the axis and the lateral direction poses are turned for — points on the true circles,
+    inside the slab, reaching the true radius toward ±lateral, and the volume of the true
+    cylinder's slab (the circular segment's area times the length) to the inscribed
+    polygon's sagitta."""
+    import math
+
+    from vmach.stock import engine
+    from vmach.stock.cusps import fin_normal
+    from vmach.tooling.solid import exact_phase, fin_points
+
+    for name in ("GLOD D25", "GLOD D16_15"):
+        tool = library.lookup(name)
+        ts = tool_solid(tool, 0.01)
+        pts = fin_points(ts.pieces[0], ts.segments, half)
+        m = fin_normal(ts.segments)
+        alpha = math.pi / ts.segments - exact_phase(ts.segments)
+        lat = np.array([math.cos(alpha), math.sin(alpha), 0.0])
+        assert np.abs(pts @ m).max() <= half + 1e-9
+        assert np.abs(lat @ m) < 1e-12
+        prof = tool.profile(0.01)
+        r = np.hypot(pts[:, 0], pts[:, 1])
+        # the profile's radius at each point's height (the largest where it steps there)
+        want = [max([rr for zz, rr in prof if abs(zz - z) < 1e-12],
+                    default=np.interp(z, prof[:, 0], prof[:, 1])) for z in pts[:, 2]]
+        assert r == pytest.approx(np.array(want), abs=1e-9)
+        assert (pts @ lat).max() == pytest.approx(tool.radius, abs=1e-12)
+        assert (pts @ -lat).max() == pytest.approx(tool.radius, abs=1e-12)
+    # the Ø25 end mill is a cylinder: the slab's cross-section is known
+    ts = tool_solid(library.lookup("GLOD D25"), 0.01)
+    big = 12.5
+    h = min(half, big)
+    area = 2.0 * (h * math.sqrt(big * big - h * h) + big * big * math.asin(h / big))
+    got = engine.volume(engine.hull(fin_points(ts.pieces[0], ts.segments, half))) / ts.length
+    assert got <= area
+    assert got == pytest.approx(area, rel=5e-4)               # the inscribed arcs: within 0.002 mm

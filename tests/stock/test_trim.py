@@ -320,3 +320,4 @@ def test_copies_clipped_each_to_its_own_box_are_clipped_as_one_by_one(d25_shape)
             compared += 1
             assert np.array_equal(alone[0], together[k])
     assert compared > 10
+

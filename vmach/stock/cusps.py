@@ -42,11 +42,14 @@ import numpy as np
 
 from vmach.tol import tol
 from vmach.tooling.model import Tool
+from vmach.tooling.solid import exact_phase
 
 AROUND = 32        # sample points around the axis per height
 SPACING = 0.5      # mm between sample heights along the profile
 MOST = 8           # parts a step is cut into at most
 BLOCK = 200_000    # steps × sample points measured at a time (bounds the temporary arrays)
+FIN_LEAST = 0.05   # mm: the narrowest fin
+RIM = 0.1          # mm: a flat face's band along its rim that a fin holds whole
 
 
 @dataclass(frozen=True)
@@ -151,3 +154,85 @@ def substeps(cusps: np.ndarray, most: float = tol.sweep_cusp) -> np.ndarray:
     (cusps shrink with the square of the spacing), at most MOST."""
     m = np.ceil(np.sqrt(np.asarray(cusps, dtype=float) / most) - 1e-9)
     return np.clip(m, 1, MOST).astype(int)
+
+
+def fin_normal(segments: int) -> np.ndarray:
+    """(3,) unit normal, tool frame, of the plane through the axis that holds the lateral
+    direction a placed pose's ``segments``-gon is turned to be exact toward
+    (:func:`vmach.tooling.solid.spun` puts it at π/n − φ* from the x axis): the direction
+    of travel across the axis, which a fin of the pose is narrow in."""
+    alpha = math.pi / segments - exact_phase(segments)
+    return np.array([-math.sin(alpha), math.cos(alpha), 0.0])
+
+
+def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, normal: np.ndarray,
+               parts: np.ndarray, sd: Side, holds, face: float = 0.0) -> np.ndarray:
+    """(e,) mm: half-widths of the fins that cut added poses (:func:`vmach.stock.clip.fin`).
+
+    An added pose (frames (e, 3, 4), tool to work) removes, beyond its neighbouring poses,
+    the lenses its side leaves between imprints — along the envelope of the side, where its
+    normal is perpendicular to the motion — and its flat face's scallop (which the angle limit
+    bounds anyway). The fin keeps the pose within ``half`` of the plane through its axis
+    normal to ``normal`` (tool frame) and holds those lenses when ``half`` covers, at every
+    sampled height of the side (``sd``), the envelope's offset from that plane and half the
+    spacing of the imprints there (the fin is the true tool's, exact toward the lateral:
+    :func:`vmach.tooling.solid.fin_points`):
+
+    - the step's motion (pose a to pose b, frames (e, 3, 4) each: the tip's travel and the
+      axis's turn, no spin — a solid of revolution may spin freely) moves each point of the
+      side by d; the envelope is where ``n·d`` changes sign around the axis (between two of
+      the AROUND samples, the zero placed linearly; a cone's normal, nearly along its axis,
+      puts it far from the meridian across the travel once the tool also moves along its
+      axis);
+    - imprints lie |d| / parts apart; a pose makes the envelope within half of that — the
+      fin reaches the whole spacing, to its neighbours' meridians: a step's end poses are
+      whole polygons, which reach the true radius φ* off their meridian, on one side.
+
+    Only envelope points that may lie in the material count (``holds``: points (m, 3) ->
+    (m,) bool). The sum, taken 25 % larger, plus ρ·(2π/AROUND)²/8 for the linear zero and
+    0.05 mm, is the half-width; 0.05 mm where no envelope point counts. A fin is part of its
+    pose: a narrower one than needed leaves cusps, never removes more."""
+    e = len(frames)
+    if e == 0 or len(sd.points) == 0:
+        return np.full(e, FIN_LEAST)
+    if e * len(sd.points) > BLOCK:
+        k = max(1, BLOCK // len(sd.points))
+        return np.concatenate([fin_widths(frames[i : i + k], frames_a[i : i + k], frames_b[i : i + k], normal,
+                                          parts[i : i + k], sd, holds, face) for i in range(0, e, k)])
+    pts = sd.points                                                  # (P, 3): AROUND per height
+    rho = np.hypot(pts[:, 0], pts[:, 1])
+    radial = pts[:, :2] / rho[:, None]
+    n_r, n_z = sd.along[:, 2], -np.einsum("pi,pi->p", sd.along[:, :2], radial)
+    nrm = np.column_stack([radial * n_r[:, None], n_z])             # outward normals (P, 3)
+    rot, t = frames[:, :, :3], frames[:, :, 3]
+    world = np.einsum("eij,pj->epi", rot, pts) + t[:, None, :]      # (e, P, 3)
+    ua, ub = frames_a[:, :, 2], frames_b[:, :, 2]
+    k = np.cross(ua, ub)
+    c = np.einsum("ei,ei->e", ua, ub)
+    kx = np.zeros((e, 3, 3))
+    kx[:, 0, 1], kx[:, 0, 2], kx[:, 1, 2] = -k[:, 2], k[:, 1], -k[:, 0]
+    kx -= kx.transpose(0, 2, 1)
+    turn = kx + np.matmul(kx, kx) / (1.0 + c)[:, None, None]        # R_min - I (Rodrigues)
+    d = np.einsum("eij,epj->epi", turn, world - frames_a[:, None, :, 3])
+    d += (frames_b[:, :, 3] - frames_a[:, :, 3])[:, None, :]
+    d = np.einsum("eji,epj->epi", rot, d)                            # in the pose's frame
+    g = np.einsum("epi,pi->ep", d, nrm).reshape(e, -1, AROUND)
+    g1 = np.roll(g, -1, axis=2)
+    step, ring, i = np.nonzero((g > 0) != (g1 > 0))                  # a zero after sample i
+    out = np.zeros(e)
+    if len(step):
+        point = ring * AROUND + i
+        inside = holds(world[step, point])
+        step, ring, i, point = step[inside], ring[inside], i[inside], point[inside]
+        g0, g1 = g[step, ring, i], g1[step, ring, i]
+        base = np.arctan2(pts[point, 1], pts[point, 0])
+        at = base + (2.0 * np.pi / AROUND) * g0 / (g0 - g1)          # the zero, linearly between
+        nn = np.asarray(normal, dtype=float) / np.linalg.norm(normal)
+        r = rho[point]
+        offset = r * np.abs(np.cos(at) * nn[0] + np.sin(at) * nn[1])
+        lens = np.linalg.norm(d[step, point], axis=1) / np.asarray(parts)[step]
+        slack = r * (2.0 * np.pi / AROUND) ** 2 / 8.0
+        np.maximum.at(out, step, offset + lens + slack)
+    if face > 0:       # the flat face's chord RIM from its rim, where it makes a flank's foot
+        out = np.maximum(out, math.sqrt(2.0 * face * RIM))
+    return 1.25 * out + FIN_LEAST

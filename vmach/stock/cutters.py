@@ -15,8 +15,9 @@ from dataclasses import replace
 import numpy as np
 
 from vmach.stock import engine
-from vmach.stock.clip import clip, sweep_shape
+from vmach.stock.clip import Shape, clip, shape, sweep_shape
 from vmach.stock.column import Column
+from vmach.stock.cusps import FIN_LEAST
 from vmach.stock.fan import (
     EPS,
     covered,
@@ -26,7 +27,7 @@ from vmach.stock.fan import (
     side_lines,
     side_samples,
 )
-from vmach.tooling.solid import ToolSolid, across, frames, place, spun
+from vmach.tooling.solid import ToolSolid, across, fin_points, frames, place, spun
 
 _IDENTITY = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
 
@@ -269,10 +270,10 @@ class CutterMaker:
         """Cutters of one stretch, in this process, each trimmed to the box around the stock
         within its Z range (:meth:`_boxes`)."""
         made: list[tuple[engine.Solid, np.ndarray]] = []
-        for k, fr, runs, fan_jobs, col_jobs in jobs:
+        for k, fr, runs, fan_jobs, col_jobs, fins in jobs:
             made += self._make_columns(ts, col_jobs)
             made += self._make_fans(ts, fan_jobs)
-            made += self._make_placed(ts, k, fr)
+            made += self._make_placed(ts, k, fr, fins)
             made += self._make_runs(ts, k, runs)
         return [c for c, _ in made], [b for _, b in made]
 
@@ -293,17 +294,49 @@ class CutterMaker:
                                      trimmed[starts[f] : starts[f + 1]], path)
         return out
 
-    def _make_placed(self, ts: ToolSolid, k: int, fr: np.ndarray) -> list[tuple[engine.Solid, np.ndarray]]:
-        """Piece k placed at poses fr (m, 3, 4), trimmed."""
+    def _make_placed(self, ts: ToolSolid, k: int, fr: np.ndarray,
+                     fins: np.ndarray | None = None) -> list[tuple[engine.Solid, np.ndarray]]:
+        """Piece k placed at poses fr (m, 3, 4), trimmed; where ``fins`` (m,) float is finite,
+        only the pose's fin of that half-width (mm; :func:`vmach.stock.cusps.fin_widths`)."""
         if len(fr) == 0:
             return []
-        solid = self._tool_pieces(ts)[k]
-        placed = place(ts.pieces[k], fr)                                    # (m, p, 3)
+        if fins is None or not np.isfinite(fins).any():
+            return self._placed(ts.pieces[k], self._tool_shapes(ts)[k], self._tool_pieces(ts)[k], fr)
+        half = _fin_bucket(np.asarray(fins, dtype=float), ts.radius)
+        out = self._placed(ts.pieces[k], self._tool_shapes(ts)[k], self._tool_pieces(ts)[k],
+                           fr[~np.isfinite(half)])
+        for h in np.unique(half[np.isfinite(half)]):
+            if k == 0:
+                self.stats.cusp_fins += int(np.sum(half == h))
+            for piece in self._fin_pieces(ts, k, float(h)):
+                out += self._placed(*piece, fr[half == h])
+        return out
+
+    def _fin_pieces(self, ts: ToolSolid, k: int, half: float) -> list[tuple]:
+        """[(points, Shape, Solid)] that cut an added pose of piece k, tool frame (cached):
+        its fin of half-width ``half`` mm — the true tool within that slab about the plane
+        through its axis and the lateral direction placed poses are turned for
+        (:func:`vmach.tooling.solid.fin_points`; its arcs within 0.8 of the stock's ``cusp``
+        of the true circles: 0.0006 mm at ``fine`` made the program's stock 68,000 → 76,000
+        triangles and took 19.5 → 21.7 s)."""
+        key = (id(ts), k, half)
+        if key not in self._fin_cache:
+            pts = fin_points(ts.pieces[k], ts.segments, half, sag=0.8 * self.cusp)
+            self._fin_cache[key] = [(pts, shape(*engine.hull_mesh(pts)), engine.hull(pts))]
+        return self._fin_cache[key]
+
+    def _placed(self, points: np.ndarray, sh: Shape, solid: engine.Solid,
+                fr: np.ndarray) -> list[tuple[engine.Solid, np.ndarray]]:
+        """A convex piece (its points (p, 3), Shape and Solid, tool frame) placed at poses fr
+        (m, 3, 4), trimmed."""
+        if len(fr) == 0:
+            return []
+        placed = place(points, fr)                                          # (m, p, 3)
         if not self.trim:
             return [(engine.transform(solid, fr[j]), np.stack([placed[j].min(axis=0), placed[j].max(axis=0)]))
                     for j in range(len(fr))]
         pose_box = self._boxes(placed[:, :, 2].min(axis=1), placed[:, :, 2].max(axis=1))
-        trimmed, inside = clip(self._tool_shapes(ts)[k], fr, pose_box[:, 0], pose_box[:, 1])
+        trimmed, inside = clip(sh, fr, pose_box[:, 0], pose_box[:, 1])
         apart = self._apart(trimmed, fr[:, :, 2])
         out = []
         for j, q in enumerate(trimmed):
@@ -369,3 +402,13 @@ class CutterMaker:
         zhi = np.array([points[j][:, 2].max() for j in idx])
         out[idx] = near > self._slabs.support(zlo, zhi, a) + 1e-9
         return out
+
+
+def _fin_bucket(half: np.ndarray, radius: float) -> np.ndarray:
+    """Fin half-widths (mm) rounded up to steps of 2^(1/4) from FIN_LEAST, so that poses share
+    their fin pieces; inf (the whole pose) from 0.7 of the tool's radius up, where a fin
+    saves little."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        step = np.ceil(4.0 * np.log2(np.maximum(half, FIN_LEAST) / FIN_LEAST) - 1e-9)
+    out = FIN_LEAST * 2.0 ** (step / 4.0)
+    return np.where(np.isfinite(half) & (out < 0.7 * radius), out, np.inf)

@@ -59,7 +59,8 @@ class CutStats:
     over the floor its tool's side sweeps, measured (mm), where no other pose of the path cuts
     anyway; fan_covered_mm : the largest such bridge where other poses of the path do (a
     helix's other turns; :func:`vmach.stock.fan.covered`); cusp_poses : placed poses added
-    between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`); columns :
+    between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`), and
+    cusp_fins : those cut as their fin only (:func:`vmach.stock.cusps.fin_widths`); columns :
     column cutters (:mod:`vmach.stock.column`) and column_cells : the turns' cells they hold;
     column_overcut_mm : the deepest a column's face chain lies below one of its turns' own, or
     its hull bridges a floor beyond what the path cuts anyway (mm; also in fan_overcut_mm);
@@ -79,6 +80,7 @@ class CutStats:
     fan_overcut_mm: float = 0.0
     fan_covered_mm: float = 0.0
     cusp_poses: int = 0
+    cusp_fins: int = 0
     columns: int = 0
     column_cells: int = 0
     axial_runs: int = 0
@@ -190,6 +192,7 @@ class Stock(CutterMaker):
         self._progress = progress and sys.stderr.isatty()
         self._piece_cache: dict[int, list[engine.Solid]] = {}
         self._shape_cache: dict[int, list[Shape]] = {}
+        self._fin_cache: dict[tuple, list[tuple]] = {}
         self._prism_cache: dict[int, object] = {}
         self._union_seconds = 0.0   # the cells' union into one solid
 
@@ -336,12 +339,14 @@ class Stock(CutterMaker):
             cols, fans = cp.columns, cp.fans
         path = (tips, unit)                       # what else the path cuts
         key = poses.astype(float)                 # where each placed pose lies along the path
+        fins = np.full(len(fr), np.inf)           # added poses: only their fin (cusps.fin_widths)
         if between is not None and self.trim and isinstance(tool, Tool):
-            more, at = self._cusp_poses(tool, ts, tips, fr, rotary, fan_runs, between)
+            more, at, half = self._cusp_poses(tool, ts, tips, fr, rotary, fan_runs, between)
             if len(more):
                 poses = np.r_[poses, len(fr) + np.arange(len(more))]
                 key = np.r_[key, at]
                 fr = np.concatenate([fr, more])
+                fins = np.r_[fins, half]
         start = np.concatenate([key, [runs[g, 0].min() for g in groups], fans.runs[:, 0],
                                 [c.cells[0, 0] for c in cols]])
         kind = np.r_[np.zeros(len(poses), int), np.ones(len(groups), int), np.full(len(fans.runs), 2),
@@ -360,8 +365,8 @@ class Stock(CutterMaker):
             flat = _run_frames(tips, axes, ends, ts.segments)     # shared by every piece
             sizes = np.cumsum([0] + [len(g) for g in chunk_groups])
             run_fr = [flat[sizes[i] : sizes[i + 1]] for i in range(len(chunk_groups))]
-            jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [], col_jobs if k == 0 else [])
-                    for k in range(len(ts.pieces))]
+            jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [], col_jobs if k == 0 else [],
+                     fins[chunk_poses]) for k in range(len(ts.pieces))]
             self.stats.sweep_seconds += time.perf_counter() - t0
             yield ts, jobs
             t0 = time.perf_counter()
@@ -399,7 +404,7 @@ class Stock(CutterMaker):
         where the tool's curved side would leave cusps over ``self.cusp`` between the
         step's two poses (:mod:`vmach.stock.cusps`): frames (e, 3, 4) — turned as placed
         poses are — and their places along the path (e,) float (step + fraction)."""
-        none = np.zeros((0, 3, 4)), np.zeros(0)
+        none = np.zeros((0, 3, 4)), np.zeros(0), np.zeros(0)
         steps = np.asarray(rotary, bool).copy()
         for first, last in fan_runs:
             steps[first:last] = False
@@ -417,9 +422,14 @@ class Stock(CutterMaker):
             return none
         t, ax, at = between(idx[need], parts[need])
         unit = np.asarray(ax, dtype=float) / np.linalg.norm(ax, axis=1, keepdims=True)
-        travel = np.repeat(tips[idx[need] + 1] - tips[idx[need]], parts[need] - 1, axis=0)
+        step = np.repeat(idx[need], parts[need] - 1)
+        more = spun(frames(t, unit), across(unit, tips[step + 1] - tips[step]), ts.segments)
+        prof = tool.profile(tol.tool_chord)
+        face = float(prof[prof[:, 0] <= 1e-12, 1].max())                # a flat end face's radius
+        half = cusps.fin_widths(more, fr[step], fr[step + 1], cusps.fin_normal(ts.segments),
+                                np.repeat(parts[need], parts[need] - 1), sd, self._holds, face)
         self.stats.cusp_poses += len(t)
-        return spun(frames(t, unit), across(unit, travel), ts.segments), np.asarray(at, dtype=float)
+        return more, np.asarray(at, dtype=float), half
 
     def _holds(self, points: np.ndarray) -> np.ndarray:
         """(...) bool: points (..., 3) that may lie in the stock (a superset: the trim slabs'

@@ -130,6 +130,52 @@ def ring_points(run: np.ndarray, segments: int) -> np.ndarray:
     return np.concatenate(out)
 
 
+def fin_points(piece: np.ndarray, segments: int, half: float, sag: float = 0.002) -> np.ndarray:
+    """Points (q, 3), tool frame, whose hull is the *true* tool of a polygonised piece (its
+    vertices (p, 3) from :func:`ring_points` with ``segments``) within the slab
+    ``|x·m| <= half`` mm about the plane through the axis and the lateral direction that
+    :func:`spun` turns a pose for (π/n − φ* from the x axis; m across it). On rings of the
+    true surface (radius ``r_v·(1 + cos(π/n))/2``) of the piece: points of the circle at most
+    ``2·acos(1 − sag/r)`` apart (an inscribed polygon within ``sag`` of it) over the arcs
+    inside the slab about ±lateral, one exactly at each and at the slab's planes; between two
+    rings of different radius (a cone), where the slab's planes cut the surface in curves,
+    their points on rings 1.4 apart in radius from ``half`` (the whole ring there). The hull
+    lies inside the true tool (never beyond it: a cone is ruled, its rings' hull is itself)
+    and reaches the true radius toward ±lateral."""
+    alpha = math.pi / segments - exact_phase(segments)
+    pts = np.asarray(piece, dtype=float)
+    scale = (1.0 + math.cos(math.pi / segments)) / 2.0              # r_v -> the true radius
+    given = [(float(z), scale * float(np.hypot(*pts[pts[:, 2] == z, :2].T).max()))
+             for z in np.unique(pts[:, 2])]
+    rings = [(z, r, True) for z, r in given]           # (z, r, whole arc) — and between:
+    for (z0, r0), (z1, r1) in zip(given[:-1], given[1:], strict=True):
+        lo, hi = sorted((r0, r1))
+        if hi - lo <= 1e-9 or half >= hi:
+            continue
+        # the slab's planes cut the cone between in curves: their points on rings 1.4 apart
+        # (and the whole ring where the slab takes in all of it)
+        r = max(lo, half)
+        while r < hi:
+            rings.append((z0 + (z1 - z0) * (r - r0) / (r1 - r0), r, r <= half))
+            r *= 1.4
+    out = []
+    for z, r, arc in rings:
+        if r <= 1e-12:
+            out.append(np.array([[0.0, 0.0, z]]))
+            continue
+        step = 2.0 * math.acos(max(-1.0, 1.0 - sag / r))
+        if half >= r:
+            k = 2 * max(4, math.ceil(math.pi / step))                # even: one at ±lateral
+            ang = alpha + 2.0 * math.pi * np.arange(k) / k
+        else:
+            beta = math.asin(half / r)
+            k = 2 * max(1, math.ceil(beta / step)) + 1 if arc else 2     # odd: one at the lateral
+            side = np.linspace(-beta, beta, k)
+            ang = np.concatenate([alpha + side, alpha + math.pi + side])
+        out.append(np.column_stack([r * np.cos(ang), r * np.sin(ang), np.full(len(ang), z)]))
+    return np.concatenate(out)
+
+
 _CACHE: dict[tuple, ToolSolid] = {}
 
 
