@@ -102,9 +102,9 @@ class Accuracy:
     sweep_cusp: float
 
 
-#: ``standard``: the defaults (about 10 s for the polygon-shaft program, within 0.015 mm of a
+#: ``standard``: the defaults (about 11 s for the polygon-shaft program, within 0.015 mm of a
 #: converged simulation). ``fine``: within about 0.005 mm (the flank/shoulder corner
-#: +0.0066), about twice the time.
+#: +0.0066), about 1.7 times the time (its added poses cut as fins, docs/stock.md).
 ACCURACY = {
     "standard": Accuracy(tool_chord=tol.tool_chord, sweep_cusp=tol.sweep_cusp),
     "fine": Accuracy(tool_chord=0.004, sweep_cusp=0.0025),

@@ -94,6 +94,7 @@ class Report:
             "fan_cutters": int(st.fans),
             "column_cutters": int(st.columns),
             "cusp_poses": int(st.cusp_poses),
+            "cusp_fins": int(st.cusp_fins),
             "max_rotary_step_deg": round(float(self.sim.max_step_deg), 4),
             "error_bounds_mm": {
                 "face_scallop": round(float(self.sim.bound_mm), 5),

@@ -71,6 +71,7 @@ def test_the_report_states_the_simulations_error_bounds(verified):
     # (at this reduced program's pitch, 10.5 mm a turn, a column's sector twists too much to
     # keep within the bound: tests/stock/test_columns.py has them at the real one's)
     assert 0 <= sim["column_cutters"] < sim["fan_cutters"]
+    assert 0 <= sim["cusp_fins"] <= sim["cusp_poses"]
     assert sim["max_rotary_step_deg"] == pytest.approx(1.713, abs=1e-3)
     b = sim["error_bounds_mm"]
     # the flat-face scallop of 1.713° at the flanks' largest radius (under 30 mm)

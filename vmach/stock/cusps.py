@@ -27,8 +27,10 @@ polygon-shaft program, 1 mm from its sharp tip (κ_t = cos 75° / 1 mm), left 0.
 lie in the material, and :func:`substeps` how many parts the step must be cut into so that
 none exceeds ``tol.sweep_cusp``: a cusp shrinks with the square of the spacing,
 ``m = ⌈√(c / c_max)⌉``. The added poses are placed poses, which never cut more than the true
-sweep. Fan cutters' steps need none (their hull fills the cusps, :mod:`vmach.stock.fan`),
-nor do translation runs (exact).
+sweep, and each is cut as its *fin* (:func:`fin_widths`): the true tool within a slab through
+its axis across its travel — all it removes beyond its neighbours but for its flat face's
+scallop, at a fraction of the whole pose's cost in the booleans. Fan cutters' steps need none
+(their hull fills the cusps, :mod:`vmach.stock.fan`), nor do translation runs (exact).
 
 Lengths mm, curvatures 1/mm.
 """
