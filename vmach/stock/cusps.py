@@ -207,7 +207,6 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
     n_r, n_z = sd.along[:, 2], -np.einsum("pi,pi->p", sd.along[:, :2], radial)
     nrm = np.column_stack([radial * n_r[:, None], n_z])             # outward normals (P, 3)
     rot, t = frames[:, :, :3], frames[:, :, 3]
-    world = np.einsum("eij,pj->epi", rot, pts) + t[:, None, :]      # (e, P, 3)
     ua, ub = frames_a[:, :, 2], frames_b[:, :, 2]
     k = np.cross(ua, ub)
     c = np.einsum("ei,ei->e", ua, ub)
@@ -215,16 +214,19 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
     kx[:, 0, 1], kx[:, 0, 2], kx[:, 1, 2] = -k[:, 2], k[:, 1], -k[:, 0]
     kx -= kx.transpose(0, 2, 1)
     turn = kx + np.matmul(kx, kx) / (1.0 + c)[:, None, None]        # R_min - I (Rodrigues)
-    d = np.einsum("eij,epj->epi", turn, world - frames_a[:, None, :, 3])
-    d += (frames_b[:, :, 3] - frames_a[:, :, 3])[:, None, :]
-    d = np.einsum("eji,epj->epi", rot, d)                            # in the pose's frame
-    g = np.einsum("epi,pi->ep", d, nrm).reshape(e, -1, AROUND)
+    # the displacement of a point p of the pose (tool frame), in the pose's frame: M p + m
+    rt = rot.transpose(0, 2, 1)
+    mat = np.matmul(rt, np.matmul(turn, rot))                        # (e, 3, 3)
+    shift = np.einsum("eij,ej->ei", rt, np.einsum("eij,ej->ei", turn, t - frames_a[:, :, 3])
+                      + frames_b[:, :, 3] - frames_a[:, :, 3])
+    # n·(M p + m) over the samples, without the (e, P, 3) displacements
+    g = (np.einsum("pi,eij,pj->ep", nrm, mat, pts, optimize=True) + shift @ nrm.T).reshape(e, -1, AROUND)
     g1 = np.roll(g, -1, axis=2)
     step, ring, i = np.nonzero((g > 0) != (g1 > 0))                  # a zero after sample i
     out = np.zeros(e)
     if len(step):
         point = ring * AROUND + i
-        inside = holds(world[step, point])
+        inside = holds(np.einsum("kij,kj->ki", rot[step], pts[point]) + t[step])
         step, ring, i, point = step[inside], ring[inside], i[inside], point[inside]
         g0, g1 = g[step, ring, i], g1[step, ring, i]
         base = np.arctan2(pts[point, 1], pts[point, 0])
@@ -232,7 +234,8 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
         nn = np.asarray(normal, dtype=float) / np.linalg.norm(normal)
         r = rho[point]
         offset = r * np.abs(np.cos(at) * nn[0] + np.sin(at) * nn[1])
-        lens = np.linalg.norm(d[step, point], axis=1) / np.asarray(parts)[step]
+        d = np.einsum("kij,kj->ki", mat[step], pts[point]) + shift[step]
+        lens = np.linalg.norm(d, axis=1) / np.asarray(parts)[step]
         slack = r * (2.0 * np.pi / AROUND) ** 2 / 8.0
         np.maximum.at(out, step, offset + lens + slack)
     if face > 0:       # the flat face's chord RIM from its rim, where it makes a flank's foot
