@@ -218,4 +218,3 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
     for k, chunk in zip(todo, np.split(allpts[order], np.cumsum(counts)[:-1]), strict=True):
         out[k] = chunk if len(chunk) >= 4 else None
     return out, inside
-

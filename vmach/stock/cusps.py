@@ -169,7 +169,7 @@ def fin_normal(segments: int) -> np.ndarray:
 
 def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, normal: np.ndarray,
                parts: np.ndarray, sd: Side, holds, face: float = 0.0) -> np.ndarray:
-    """(e,) mm: half-widths of the fins that cut added poses (:func:`vmach.stock.clip.fin`).
+    """(e,) mm: half-widths of the fins that cut added poses (:func:`vmach.tooling.solid.fin_points`).
 
     An added pose (frames (e, 3, 4), tool to work) removes, beyond its neighbouring poses,
     the lenses its side leaves between imprints — along the envelope of the side, where its
@@ -192,8 +192,10 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
 
     Only envelope points that may lie in the material count (``holds``: points (m, 3) ->
     (m,) bool). The sum, taken 25 % larger, plus ρ·(2π/AROUND)²/8 for the linear zero and
-    0.05 mm, is the half-width; 0.05 mm where no envelope point counts. A fin is part of its
-    pose: a narrower one than needed leaves cusps, never removes more."""
+    0.05 mm, is the half-width; 0.05 mm where no envelope point counts. For a flat-faced tool
+    (``face``: the face's radius, mm) at least the face's chord RIM from its rim: the face makes
+    a flank's foot there over its whole chord. A fin lies inside the true tool at its pose: a
+    narrower one than needed leaves cusps, never removes more."""
     e = len(frames)
     if e == 0 or len(sd.points) == 0:
         return np.full(e, FIN_LEAST)

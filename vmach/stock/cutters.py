@@ -308,13 +308,12 @@ class CutterMaker:
         for h in np.unique(half[np.isfinite(half)]):
             if k == 0:
                 self.stats.cusp_fins += int(np.sum(half == h))
-            for piece in self._fin_pieces(ts, k, float(h)):
-                out += self._placed(*piece, fr[half == h])
+            out += self._placed(*self._fin_piece(ts, k, float(h)), fr[half == h])
         return out
 
-    def _fin_pieces(self, ts: ToolSolid, k: int, half: float) -> list[tuple]:
-        """[(points, Shape, Solid)] that cut an added pose of piece k, tool frame (cached):
-        its fin of half-width ``half`` mm — the true tool within that slab about the plane
+    def _fin_piece(self, ts: ToolSolid, k: int, half: float) -> tuple[np.ndarray, Shape, engine.Solid]:
+        """(points, Shape, Solid) that cut an added pose of piece k, tool frame (cached): its
+        fin of half-width ``half`` mm — the true tool within that slab about the plane
         through its axis and the lateral direction placed poses are turned for
         (:func:`vmach.tooling.solid.fin_points`; its arcs within 0.8 of the stock's ``cusp``
         of the true circles: 0.0006 mm at ``fine`` made the program's stock 68,000 → 76,000
@@ -322,7 +321,7 @@ class CutterMaker:
         key = (id(ts), k, half)
         if key not in self._fin_cache:
             pts = fin_points(ts.pieces[k], ts.segments, half, sag=0.8 * self.cusp)
-            self._fin_cache[key] = [(pts, shape(*engine.hull_mesh(pts)), engine.hull(pts))]
+            self._fin_cache[key] = (pts, shape(*engine.hull_mesh(pts)), engine.hull(pts))
         return self._fin_cache[key]
 
     def _placed(self, points: np.ndarray, sh: Shape, solid: engine.Solid,

@@ -192,7 +192,7 @@ class Stock(CutterMaker):
         self._progress = progress and sys.stderr.isatty()
         self._piece_cache: dict[int, list[engine.Solid]] = {}
         self._shape_cache: dict[int, list[Shape]] = {}
-        self._fin_cache: dict[tuple, list[tuple]] = {}
+        self._fin_cache: dict[tuple, tuple] = {}
         self._prism_cache: dict[int, object] = {}
         self._union_seconds = 0.0   # the cells' union into one solid
 
@@ -403,7 +403,8 @@ class Stock(CutterMaker):
         """Placed poses to add inside the rotary steps (n-1,) bool that no fan cutter holds,
         where the tool's curved side would leave cusps over ``self.cusp`` between the
         step's two poses (:mod:`vmach.stock.cusps`): frames (e, 3, 4) — turned as placed
-        poses are — and their places along the path (e,) float (step + fraction)."""
+        poses are — their places along the path (e,) float (step + fraction) and the
+        half-widths (e,) mm of the fins that cut them (:func:`vmach.stock.cusps.fin_widths`)."""
         none = np.zeros((0, 3, 4)), np.zeros(0), np.zeros(0)
         steps = np.asarray(rotary, bool).copy()
         for first, last in fan_runs:

@@ -169,7 +169,8 @@ def fin_points(piece: np.ndarray, segments: int, half: float, sag: float = 0.002
             ang = alpha + 2.0 * math.pi * np.arange(k) / k
         else:
             beta = math.asin(half / r)
-            k = 2 * max(1, math.ceil(beta / step)) + 1 if arc else 2     # odd: one at the lateral
+            # odd: one at the lateral; between the piece's rings only the slab's two planes
+            k = 2 * max(1, math.ceil(beta / step)) + 1 if arc else 2
             side = np.linspace(-beta, beta, k)
             ang = np.concatenate([alpha + side, alpha + math.pi + side])
         out.append(np.column_stack([r * np.cos(ang), r * np.sin(ang), np.full(len(ang), z)]))
