@@ -63,6 +63,22 @@ def test_a_side_moved_across_its_axis_leaves_the_two_circle_cusp():
     assert list(substeps(np.array([0.0, 0.01, 0.0101, 0.04, 0.041, 10.0]), 0.01)) == [1, 1, 2, 2, 3, 8]
 
 
+def _turned_flat10():
+    """A Ø10 end mill radial at X = 12, tip Z -2, turned 6 deg per step about the work axis
+    over 60 deg: (tool, C1 degrees, tips, axes, the control's poses between steps — C
+    interpolated)."""
+    tool = Tool(name="flat10", kind="flat", diameter=10.0, cutting_length=20.0)
+    c = np.arange(0.0, 61.0, 6.0)
+    tips, axes = turnmill(12.0, 0.0, -2.0, c)
+
+    def between(steps, parts):
+        at = np.concatenate([s + np.arange(1, p) / p for s, p in zip(steps, parts, strict=True)])
+        t, a = turnmill(12.0, 0.0, -2.0, np.interp(at, np.arange(len(c)), c))
+        return t, a, at
+
+    return tool, c, tips, axes, between
+
+
 @pytest.mark.parametrize("accuracy", ["standard", "fine"])
 def test_placed_poses_get_the_poses_between_that_keep_the_side_made_floor_within_the_cusp(accuracy):
     """A Ø10 end mill, radial at X = 12, turned 6 deg per step about the work axis: its side
@@ -74,14 +90,7 @@ def test_placed_poses_get_the_poses_between_that_keep_the_side_made_floor_within
     otherwise one fan cutter, whose hull leaves no cusp — and gets no poses added but for the
     steps left to placed poses.)"""
     acc = ACCURACY[accuracy]
-    tool = Tool(name="flat10", kind="flat", diameter=10.0, cutting_length=20.0)
-    c = np.arange(0.0, 61.0, 6.0)
-    tips, axes = turnmill(12.0, 0.0, -2.0, c)
-
-    def between(steps, parts):
-        at = np.concatenate([s + np.arange(1, p) / p for s, p in zip(steps, parts, strict=True)])
-        t, a = turnmill(12.0, 0.0, -2.0, np.interp(at, np.arange(len(c)), c))
-        return t, a, at
+    tool, c, tips, axes, between = _turned_flat10()
 
     plain = Stock.from_spec("cylinder:d=30,l=20", fans=False)
     plain.cut(tool, tips, axes)
@@ -207,14 +216,7 @@ def test_added_poses_cut_as_fins_keep_the_side_made_floor_on_the_true_one(monkey
     poses are whole polygons: between them and the fins the polygon's own bump remains), and
     closer to it on the whole than with the added poses cut whole (their polygons' V-shaped
     cusps between imprints)."""
-    tool = Tool(name="flat10", kind="flat", diameter=10.0, cutting_length=20.0)
-    c = np.arange(0.0, 61.0, 6.0)
-    tips, axes = turnmill(12.0, 0.0, -2.0, c)
-
-    def between(steps, parts):
-        at = np.concatenate([s + np.arange(1, p) / p for s, p in zip(steps, parts, strict=True)])
-        t, a = turnmill(12.0, 0.0, -2.0, np.interp(at, np.arange(len(c)), c))
-        return t, a, at
+    tool, c, tips, axes, between = _turned_flat10()
 
     fins = Stock.from_spec("cylinder:d=30,l=20", fans=False, cusp=0.0025)
     fins.cut(tool, tips, axes, between)

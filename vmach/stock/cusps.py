@@ -44,7 +44,7 @@ import numpy as np
 
 from vmach.tol import tol
 from vmach.tooling.model import Tool
-from vmach.tooling.solid import exact_phase
+from vmach.tooling.solid import lateral_angle
 
 AROUND = 32        # sample points around the axis per height
 SPACING = 0.5      # mm between sample heights along the profile
@@ -161,9 +161,9 @@ def substeps(cusps: np.ndarray, most: float = tol.sweep_cusp) -> np.ndarray:
 def fin_normal(segments: int) -> np.ndarray:
     """(3,) unit normal, tool frame, of the plane through the axis that holds the lateral
     direction a placed pose's ``segments``-gon is turned to be exact toward
-    (:func:`vmach.tooling.solid.spun` puts it at π/n − φ* from the x axis): the direction
-    of travel across the axis, which a fin of the pose is narrow in."""
-    alpha = math.pi / segments - exact_phase(segments)
+    (:func:`vmach.tooling.solid.lateral_angle`): the direction of travel across the axis,
+    which a fin of the pose is narrow in."""
+    alpha = lateral_angle(segments)
     return np.array([-math.sin(alpha), math.cos(alpha), 0.0])
 
 

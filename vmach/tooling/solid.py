@@ -46,6 +46,13 @@ def exact_phase(segments: int) -> float:
     return math.acos((1.0 + math.cos(math.pi / segments)) / 2.0)
 
 
+def lateral_angle(segments: int) -> float:
+    """Angle (radians) from the tool frame's x axis at which :func:`spun` puts the side a
+    pose is turned for: ``π/n − φ*`` (vertex 0 of :func:`ring_points` lies at π/n, and the
+    side φ* from a vertex)."""
+    return math.pi / segments - exact_phase(segments)
+
+
 def polygon_deviation(radius: float, segments: int) -> float:
     """Largest radial deviation (mm) of the straddling ``segments``-gon from the circle."""
     c = math.cos(math.pi / segments)
@@ -142,9 +149,9 @@ def fin_points(piece: np.ndarray, segments: int, half: float, sag: float = 0.002
     their points on rings 1.4 apart in radius from ``half`` (the whole ring there). The hull
     lies inside the true tool (never beyond it: a cone is ruled, its rings' hull is itself)
     and reaches the true radius toward ±lateral."""
-    alpha = math.pi / segments - exact_phase(segments)
+    alpha = lateral_angle(segments)
     pts = np.asarray(piece, dtype=float)
-    scale = (1.0 + math.cos(math.pi / segments)) / 2.0              # r_v -> the true radius
+    scale = 1.0 / straddle_radius(1.0, segments)                  # r_v -> the true radius
     given = [(float(z), scale * float(np.hypot(*pts[pts[:, 2] == z, :2].T).max()))
              for z in np.unique(pts[:, 2])]
     rings = [(z, r, True) for z, r in given]           # (z, r, whole arc) — and between:
@@ -279,9 +286,8 @@ def spun(frames_: np.ndarray, side: np.ndarray, segments: int) -> np.ndarray:
         side[none] = ref / np.linalg.norm(ref, axis=1, keepdims=True)
     local = np.einsum("nji,nj->ni", rot, side)                 # side in each tool frame
     psi = np.arctan2(local[:, 1], local[:, 0])
-    # ring_points puts vertex 0 at angle pi/n: turn it to psi + phi*
-    beta = np.where(np.hypot(local[:, 0], local[:, 1]) > 1e-9,
-                    psi + exact_phase(segments) - math.pi / segments, 0.0)
+    # turn the frame so that the side lies at lateral_angle (vertex 0 then lies φ* from it)
+    beta = np.where(np.hypot(local[:, 0], local[:, 1]) > 1e-9, psi - lateral_angle(segments), 0.0)
     c, s = np.cos(beta), np.sin(beta)
     turn = np.zeros((len(beta), 3, 3))
     turn[:, 0, 0], turn[:, 0, 1], turn[:, 1, 0], turn[:, 1, 1], turn[:, 2, 2] = c, -s, s, c, 1.0
