@@ -288,7 +288,7 @@ def main(argv=None) -> int:
                     help="the program cases' preset, as vmach verify --accuracy")
     args = ap.parse_args(argv)
     acc = ACCURACY[args.accuracy]
-    PRESET.update(chord=acc.tool_chord, cusp=acc.sweep_cusp)
+    PRESET.update(acc.stock)
     print(f"vmach stock removal benchmark ({args.accuracy} accuracy; 2-core figures in docs/stock.md)")
     print(machine_figure(), flush=True)
     kinds = ["program", "program-checked"] + ([] if args.quick else ["program-before", "program-naive"])

@@ -114,7 +114,7 @@ def _simulate_child(settings: dict, program: str | None, out_file: str, conn) ->
     model, table, path = bench._program_table(program)
     t0 = time.perf_counter()
     stock = Stock.from_spec(SPEC, chord=settings["chord"], fans=settings["fans"],
-                            cusp=settings.get("cusp", tol.sweep_cusp))
+                            cusp=settings.get("cusp", tol.sweep_cusp), arcs=settings.get("arcs", False))
     sim = simulate(table, model, lib, stock, angle=settings["angle"], step=settings["step"])
     part = stock.solid
     engine.check(part)
@@ -491,6 +491,8 @@ def main(argv=None) -> int:
     if args.accuracy != "standard":     # (the standard settings keep their cache key)
         acc = ACCURACY[args.accuracy]
         default.update(chord=acc.tool_chord, cusp=acc.sweep_cusp)
+        if acc.rim_arcs:
+            default.update(arcs=True)
     fine = {"chord": args.fine_chord, "fans": False, "angle": args.fine_angle, "step": args.fine_step}
     vd, fd, md, file_d = part_mesh(default, args.program, args.cache, "default")
     if args.reference:

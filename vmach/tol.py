@@ -94,18 +94,29 @@ tol = Tolerances()
 @dataclass(frozen=True)
 class Accuracy:
     """A stock simulation's accuracy preset (``vmach verify --accuracy``): the tool polygon
-    (mm, as ``Tolerances.tool_chord``) and the side cusps between placed poses (mm, as
-    ``Tolerances.sweep_cusp``). Error and time of each on the polygon-shaft program are
-    measured in docs/stock.md (``benchmarks/stock_error.py --accuracy NAME``)."""
+    (mm, as ``Tolerances.tool_chord``), the side cusps between placed poses (mm, as
+    ``Tolerances.sweep_cusp``) and whether a flat or face mill's polygon is round about the
+    directions it is made exact toward (``rim_arcs``: :func:`vmach.tooling.solid.ring_points`;
+    its face's rim makes the flank's foot where a side-made surface meets it). Error and time
+    of each on the polygon-shaft program are measured in docs/stock.md
+    (``benchmarks/stock_error.py --accuracy NAME``)."""
 
     tool_chord: float
     sweep_cusp: float
+    rim_arcs: bool = False
+
+    @property
+    def stock(self) -> dict:
+        """The preset as :class:`vmach.stock.Stock` keywords (``chord``, ``cusp``, ``arcs``)."""
+        return {"chord": self.tool_chord, "cusp": self.sweep_cusp, "arcs": self.rim_arcs}
 
 
-#: ``standard``: the defaults (about 11 s for the polygon-shaft program, within 0.015 mm of a
-#: converged simulation). ``fine``: within about 0.005 mm (the flank/shoulder corner
-#: +0.0066), about 1.7 times the time (its added poses cut as fins, docs/stock.md).
+#: ``standard``: the defaults (7–11 s for the polygon-shaft program, within +0.015 / −0.0093 mm
+#: of a converged simulation). ``fine``: tools to 0.004 mm, side cusps to 0.0025 mm, and flat or
+#: face mills round about the directions their poses are made exact toward — within +0.0059 /
+#: −0.0035 mm but for two points of the flank/shoulder corner line (+0.0059), about 1.9 times
+#: the time (docs/stock.md).
 ACCURACY = {
     "standard": Accuracy(tool_chord=tol.tool_chord, sweep_cusp=tol.sweep_cusp),
-    "fine": Accuracy(tool_chord=0.004, sweep_cusp=0.0025),
+    "fine": Accuracy(tool_chord=0.004, sweep_cusp=0.0025, rim_arcs=True),
 }

@@ -88,6 +88,7 @@ class Report:
         st = self.part.stats
         return {
             "accuracy": self.accuracy,
+            "rim_arcs": bool(self.part.arcs),
             "moves": int(self.sim.moves),
             "poses": int(self.sim.samples),
             "cutters": int(st.cutters),
@@ -263,8 +264,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
 
             acc = ACCURACY[report.accuracy]
             notes: list = []
-            stock = Stock.from_spec(spec, notes=notes, progress=not options.quiet, chord=acc.tool_chord,
-                                    cusp=acc.sweep_cusp)
+            stock = Stock.from_spec(spec, notes=notes, progress=not options.quiet, **acc.stock)
             report.findings.extend(Finding("blank_hull", "info", m, data=d) for m, d in notes)
             sim = simulate(table, model, library, stock, checks=True, clearance=options.clearance)
             engine.check(stock.solid)      # the last queued cutters subtracted: the stock's work

@@ -468,7 +468,8 @@ def test_a_sample_is_covered_only_when_every_patch_around_it_lies_in_one_pose():
     ``behind`` the cylinder reaches that far behind the face as well."""
     tool = Prism(radius=5.0, length=10.0, ring=np.column_stack([
         5 * np.cos(np.linspace(0, 2 * np.pi, 64, endpoint=False)),
-        5 * np.sin(np.linspace(0, 2 * np.pi, 64, endpoint=False)), np.zeros(64)]))
+        5 * np.sin(np.linspace(0, 2 * np.pi, 64, endpoint=False)), np.zeros(64)]),
+        inner=5.0 * np.cos(np.pi / 64))
     x = np.array([1.0, 3.0, 5.0, 7.0])                         # along the lines
     y = np.array([[0.0, 1.0, 2.0], [2.0, 3.0, 4.0]]).T         # across (3, 2): two steps
     grid = np.stack(np.broadcast_arrays(x[None, None, :], y[:, :, None], 0.0), axis=-1)  # (3, 2, 4, 3)

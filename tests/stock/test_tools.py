@@ -172,3 +172,54 @@ def test_a_fin_is_the_true_tool_within_a_slab_through_its_lateral(library, half)
     got = engine.volume(engine.hull(fin_points(ts.pieces[0], ts.segments, half))) / ts.length
     assert got <= area
     assert got == pytest.approx(area, rel=5e-4)               # the inscribed arcs: within 0.002 mm
+
+
+@pytest.mark.parametrize("chord", [0.01, 0.004])
+def test_a_prism_tools_rings_are_round_about_the_laterals(library, chord):
+    """A flat or face mill's rings (the face's rim, and the side with it) are arcs of the
+    true circle over ±RIM_ARC about the two lateral directions poses are turned for: within
+    RIM_SAG inside the circle there and never outside it, exactly the true radius at the
+    laterals — elsewhere the straddling polygon (within its deviation either way). The piece
+    stays a right prism (fans take it), and a chamfer mill keeps its plain polygon."""
+    from vmach.stock.fan import prism
+    from vmach.tooling.solid import RIM_ARC, RIM_SAG, lateral_angle
+
+    for name in ("GLOD D25", "GLOD D40"):
+        tool = library.lookup(name)
+        ts = tool_solid(tool, chord, arcs=True)
+        pr = prism(ts.pieces[0])
+        assert pr is not None and pr.inner >= tool.radius - ts.deviation - 1e-9
+        assert len(prism(tool_solid(tool, chord).pieces[0]).ring) == ts.segments     # (opt-in)
+        ring = pr.ring[:, :2]
+        alpha = lateral_angle(ts.segments)
+        # the ring's radial reach along rays (its boundary: the hull's support along a ray
+        # is not the reach, so the polygon edges' crossings are taken)
+        order = np.argsort(np.arctan2(ring[:, 1], ring[:, 0]))
+        a, b = ring[order], np.roll(ring[order], -1, axis=0)
+        rays = alpha + np.radians(np.linspace(-RIM_ARC, RIM_ARC, 201))
+        rays = np.concatenate([rays, rays + np.pi])
+        reach = []
+        for t in rays:
+            u = np.array([math.cos(t), math.sin(t)])
+            cross_a, cross_b = a[:, 0] * u[1] - a[:, 1] * u[0], b[:, 0] * u[1] - b[:, 1] * u[0]
+            k = np.nonzero((cross_a >= 0) & (cross_b < 0) & (a @ u > 0))[0][0]
+            d = b[k] - a[k]
+            s = cross_a[k] / (cross_a[k] - cross_b[k])
+            reach.append(np.linalg.norm(a[k] + s * d))
+        reach = np.array(reach)
+        assert reach.max() <= tool.radius + 1e-9                       # never outside
+        assert reach.min() >= tool.radius - RIM_SAG - 1e-9             # within RIM_SAG inside
+        for t in (alpha, alpha + math.pi):                              # exact at the laterals
+            assert (ring @ [math.cos(t), math.sin(t)]).max() == pytest.approx(tool.radius, abs=1e-12)
+        # elsewhere the straddling polygon: every point on the circle or one of its vertices,
+        # those beyond RIM_ARC from both laterals
+        far = np.abs(np.mod(np.arctan2(ring[:, 1], ring[:, 0]) - alpha + np.pi / 2, np.pi) - np.pi / 2)
+        rho = np.hypot(*ring.T)
+        vertex = np.abs(rho - straddle_radius(tool.radius, ts.segments)) < 1e-9
+        assert np.all(vertex | (np.abs(rho - tool.radius) < 1e-9))
+        assert np.all(far[vertex] > math.radians(RIM_ARC)) and vertex.sum() >= ts.segments - 8
+    cone = tool_solid(library.lookup("GLOD D16_15"), chord, arcs=True)
+    assert prism(cone.pieces[0]) is None
+    r = np.hypot(cone.pieces[0][:, 0], cone.pieces[0][:, 1])
+    assert np.isin(np.round(r[r > 0], 9), np.round([straddle_radius(rr, cone.segments)
+                                                    for rr in (8.0,)], 9)).all()

@@ -9,6 +9,7 @@ import pytest
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
 from vmach.stock.clip import clip, shape
+from vmach.stock.fan import prism
 from vmach.stock.slabs import GRID, JITTER, Slabs
 from vmach.tol import tol
 from vmach.tooling import frames, tool_solid
@@ -20,9 +21,12 @@ def d25_shape(library):
     return ts, shape(*engine.hull_mesh(ts.pieces[0]))
 
 
-def test_shape_planes_contain_the_piece_and_edges_are_the_real_ones(d25_shape):
-    ts, sh = d25_shape
-    n = ts.segments
+@pytest.mark.parametrize("arcs", [False, True])
+def test_shape_planes_contain_the_piece_and_edges_are_the_real_ones(library, arcs):
+    ts = tool_solid(library.lookup("GLOD D25"), 0.01, arcs=arcs)
+    sh = shape(*engine.hull_mesh(ts.pieces[0]))
+    n = len(prism(ts.pieces[0]).ring)       # the polygon's vertices (and its arcs' points)
+    assert (n > ts.segments) if arcs else (n == ts.segments)
     assert (sh.vertices @ sh.planes[:, :3].T - sh.planes[:, 3]).max() < 1e-12
     # a prism: n side faces and two caps; 3n edges (the caps' and sides' diagonals left out)
     assert len(sh.planes) == n + 2 and len(sh.edges) == 3 * n

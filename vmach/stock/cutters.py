@@ -27,21 +27,31 @@ from vmach.stock.fan import (
     side_lines,
     side_samples,
 )
-from vmach.tooling.solid import ToolSolid, across, fin_points, frames, place, spun
+from vmach.tooling.solid import ToolSolid, across, fin_points, frames, lateral, place, spun
 
 _IDENTITY = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
 
 
-def _run_frames(tips: np.ndarray, axes: np.ndarray, ends: list, segments: int) -> list:
+def _run_frames(tips: np.ndarray, axes: np.ndarray, ends: list, segments: int,
+                sides: np.ndarray | None = None) -> list:
     """Frames ((3, 4), (3, 4)) of each translation run's two extreme poses (a, b) in ``ends``:
     the same turn about the (common) axis, with the polygon exact toward the run's own
-    lateral direction (:func:`vmach.tooling.solid.spun`)."""
+    lateral direction (:func:`vmach.tooling.solid.spun`). A run along the tool's axis has
+    none: it takes ``sides`` (n, 3), the path's lateral directions, at its inner pose (the
+    deeper end), so that it is the very polygon a placed pose there is (a retract cut as the
+    tool at its inner pose, ``Stock._axial``, removes what its hull removes; the polygon is not
+    symmetric about its axis but for half turns, :func:`vmach.tooling.solid.ring_points`)."""
     if not ends:
         return []
     ab = np.asarray(ends, dtype=int)                                        # (r, 2)
     a, b = ab[:, 0], ab[:, 1]
     unit = axes[a] / np.linalg.norm(axes[a], axis=1, keepdims=True)
-    side = np.repeat(across(unit, tips[b] - tips[a]), 2, axis=0)
+    side = across(unit, tips[b] - tips[a])
+    if sides is not None:
+        none = ~np.any(side, axis=1)
+        inner = np.where(np.einsum("ij,ij->i", tips[b] - tips[a], unit) >= 0.0, a, b)
+        side[none] = sides[inner[none]]
+    side = np.repeat(side, 2, axis=0)
     pair = np.stack([tips[a], tips[b]], axis=1).reshape(-1, 3)             # a0 b0 a1 b1 ...
     fr = spun(frames(pair, np.repeat(axes[a], 2, axis=0)), side, segments)
     return list(zip(fr[0::2], fr[1::2], strict=True))
@@ -131,7 +141,8 @@ class CutterMaker:
                 # ... and translation hulls for its straight steps
                 straight = [(k, k + 1) for k in range(i, j)
                             if np.linalg.norm(np.cross(axes[k], axes[k + 1])) <= 1e-12]
-                out += self._make_runs(ts, 0, [[f] for f in _run_frames(tips, axes, straight, ts.segments)])
+                out += self._make_runs(ts, 0, [[f] for f in _run_frames(tips, axes, straight, ts.segments,
+                                                                            lateral(tips, axes))])
             else:
                 m = material_points(tips[i : j + 1], axes[i : j + 1], omega, q)
                 out.append((engine.subtract(hull, [engine.hull(m)]) if m is not None else hull,
@@ -247,7 +258,7 @@ class CutterMaker:
         that cell's tool)."""
         om = col.omega
         h = np.array([float(np.mean(tips[a : b + 1] @ om)) for a, b in col.cells])
-        apart = pr.radius - pr.radius * np.cos(np.pi / len(pr.ring)) + 1e-3
+        apart = pr.radius - pr.inner + 1e-3
         planes = hull_planes(*engine.to_mesh(hull, double=True))
         idx = col.poses
         faces = np.column_stack([unit[idx], np.einsum("ij,ij->i", tips[idx], unit[idx])])

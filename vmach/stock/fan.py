@@ -61,6 +61,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from vmach.stock.halfplanes import face_lines, polygon
 from vmach.tol import tol
@@ -83,29 +84,42 @@ RIM_REACH = 1.5
 class Prism:
     """A tool piece that is a right prism on the tool axis: end face at z = 0.
 
-    radius : float, mm — vertex radius of its polygon (>= the true radius); length : float, mm;
-    ring : (s, 3) float — the polygon's vertices on the end face (tool frame).
+    radius : float, mm — largest radius of its polygon (>= the true radius); length : float, mm;
+    ring : (s, 3) float — the polygon's vertices on the end face (tool frame); inner : float, mm
+    — the radius of the cylinder inscribed in it (the least distance of the polygon's edges
+    from the axis).
     """
 
     radius: float
     length: float
     ring: np.ndarray
+    inner: float
 
 
 def prism(piece: np.ndarray) -> Prism | None:
-    """The piece (k, 3) as a :class:`Prism`, or None if it is not one (a cone, a ball...).
-    Points on the axis (the centres of the end faces) are allowed."""
+    """The piece (k, 3) as a :class:`Prism` — every point on one of two end faces, the same
+    convex polygon on both — or None if it is not one (a cone, a ball...). Points on the axis
+    (the centres of the end faces) are allowed."""
     p = np.asarray(piece, dtype=float)
     z = p[:, 2]
     r = np.hypot(p[:, 0], p[:, 1])
     top = float(z.max())
     scale = max(1.0, float(r.max()), top)
     ring = r > 1e-9 * scale
-    if abs(float(z.min())) > 1e-9 * scale or top <= 0 or not ring.any() or np.ptp(r[ring]) > 1e-9 * scale:
+    if abs(float(z.min())) > 1e-9 * scale or top <= 0 or not ring.any():
         return None
-    if not np.all((np.abs(z) <= 1e-9 * scale) | (np.abs(z - top) <= 1e-9 * scale)):
+    low, high = np.abs(z) <= 1e-9 * scale, np.abs(z - top) <= 1e-9 * scale
+    if not np.all(low | high):
         return None
-    return Prism(float(r.max()), top, p[ring & (np.abs(z) <= 1e-9 * scale)])
+    front, back = p[ring & low, :2], p[ring & high, :2]
+    if len(front) != len(back) or len(front) < 3:
+        return None
+    fo, bo = np.lexsort(front.T[::-1]), np.lexsort(back.T[::-1])
+    if not np.allclose(front[fo], back[bo], rtol=0.0, atol=1e-9 * scale):
+        return None
+    # the inscribed radius: the least offset of the polygon's edge lines (n·x + c <= 0 inside)
+    inner = float(-ConvexHull(front).equations[:, 2].max())
+    return Prism(float(r.max()), top, p[ring & low], inner)
 
 
 @dataclass(frozen=True)
@@ -199,7 +213,7 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     near = np.minimum(rim_standoff(tips, a, angle), band) <= rim
     if not near.all():
         near |= _rims_covered(tips, a, w, turn, band, rim, r, ~near,
-                              r * np.cos(np.pi / len(tool.ring)), stock_box)
+                              tool.inner, stock_box)
     ok &= near
     slide &= near
     move = tips[1:] - tips[:-1]
@@ -476,7 +490,7 @@ def covered(grid: np.ndarray, need: np.ndarray, reach: float, direction: np.ndar
     a, k, b = idx
     corners = np.stack([grid[a, k, b], grid[a + 1, k, b], grid[a, k, b + 1], grid[a + 1, k, b + 1]], axis=1)
     corners = np.concatenate([corners, corners + reach * np.asarray(direction, dtype=float)], axis=1)
-    inner = tool.radius * np.cos(np.pi / len(tool.ring))
+    inner = tool.inner
     length = tool.length + behind
     tips = tips - behind * axes
     # a pose holds a patch when its eight points are inside: surely when the patch's bounding

@@ -148,6 +148,8 @@ class Stock(CutterMaker):
     cusp : float, mm — the largest cusp a curved side may leave between placed poses of a
         rotary step before poses are added between them (:mod:`vmach.stock.cusps`).
     spread : int — batches taken from one window of queued cutters (:mod:`vmach.stock.batch`).
+    arcs : bool — a flat or face mill's polygon round about the directions each pose is made
+        exact toward (:func:`vmach.tooling.solid.ring_points`; ``Accuracy.rim_arcs``).
     """
 
     CHUNK = 256  # poses swept at a time (cutters are queued, and may be subtracted, as they come)
@@ -166,13 +168,15 @@ class Stock(CutterMaker):
     def __init__(self, solid: engine.Solid, *, batch: int = 64,
                  cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
                  progress: bool = False, trim: bool = True, spread: int = 8, fans: bool = True,
-                 fan_overcut: float = tol.fan_overcut, cusp: float = tol.sweep_cusp, columns: bool = True):
+                 fan_overcut: float = tol.fan_overcut, cusp: float = tol.sweep_cusp, columns: bool = True,
+                 arcs: bool = False):
         engine.check(solid, "blank")
         self.initial = solid
         self.initial_bounds = engine.bounds(solid)
         self.batch = max(1, int(batch))
         self.spread = max(1, int(spread))
         self.chord = chord
+        self.arcs = bool(arcs)
         self.trim = trim
         self.fans = fans and trim
         self.columns = columns and self.fans
@@ -293,7 +297,7 @@ class Stock(CutterMaker):
         turned about its axis so that the tool's polygon is exact toward the sides of its
         travel (:func:`vmach.tooling.solid.spun`)."""
         t0 = time.perf_counter()
-        ts = tool if isinstance(tool, ToolSolid) else tool_solid(tool, self.chord)
+        ts = tool if isinstance(tool, ToolSolid) else tool_solid(tool, self.chord, arcs=self.arcs)
         tips = np.asarray(tips, dtype=float).reshape(-1, 3)
         axes = np.asarray(axes, dtype=float).reshape(-1, 3)
         if len(tips) != len(axes):
@@ -305,7 +309,8 @@ class Stock(CutterMaker):
         if len(tips) == 0:
             return
         sp = plan(tips, axes)
-        fr = spun(frames(tips, axes), lateral(tips, axes), ts.segments)
+        sides = lateral(tips, axes)
+        fr = spun(frames(tips, axes), sides, ts.segments)
         rotary = sp.angles > tol.hull_angle
         if self.trim:
             t1 = time.perf_counter()
@@ -362,7 +367,7 @@ class Stock(CutterMaker):
             fan_jobs = [(tips[a : b + 1], unit[a : b + 1], fans.omega[f], fr[a : b + 1], path)
                         for f in which[part][kind[part] == 2] for a, b in [fans.runs[f]]]
             col_jobs = [(cols[c], tips, unit, fr, path) for c in which[part][kind[part] == 3]]
-            flat = _run_frames(tips, axes, ends, ts.segments)     # shared by every piece
+            flat = _run_frames(tips, axes, ends, ts.segments, sides)     # shared by every piece
             sizes = np.cumsum([0] + [len(g) for g in chunk_groups])
             run_fr = [flat[sizes[i] : sizes[i + 1]] for i in range(len(chunk_groups))]
             jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [], col_jobs if k == 0 else [],
