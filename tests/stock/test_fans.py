@@ -185,19 +185,26 @@ def test_runs_keep_within_the_angle_limit(face40):
     assert runs[0, 0] == 0 and runs[-1, 1] == len(c) - 1 and np.all(runs[1:, 0] == runs[:-1, 1])
 
 
-def test_a_run_that_cannot_fit_falls_back_to_placed_poses(helix_cut):
+def test_a_run_that_cannot_fit_falls_back_to_placed_poses(helix_cut, monkeypatch):
     """With a bound no fan can keep, every run is shortened to two steps and then placed:
-    the cut equals the placed-pose cut."""
+    the cut equals the placed-pose cut with every pose whole (a path of placed poses cuts
+    those between two rotary steps as fins, Stock._inner_fins: within the polygon's
+    deviation of the whole poses)."""
     tool = helix_cut["tool"]
     c = np.arange(0.0, 60.0, 1.713)
     tips, axes = turnmill(26.0, 0.0, -5.0 - 0.01 * np.arange(len(c)), c)
     vols = []
-    for kw in ({"fan_overcut": 1e-9}, {"fans": False}):
-        stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, **kw)
-        stock.cut(tool, tips, axes)
+    for kw in ({"fan_overcut": 1e-9}, {"fans": False}, {"fans": False, "whole": True}):
+        with monkeypatch.context() as mp:
+            if kw.pop("whole", False):
+                mp.setattr(Stock, "_inner_fins", lambda self, tool, ts, fr, *a: np.full(len(fr), np.inf))
+            stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, **kw)
+            stock.cut(tool, tips, axes)
         vols.append(stock.volume)
         assert stock.stats.fans == 0
-    assert vols[0] == pytest.approx(vols[1], rel=1e-12)
+    assert vols[0] == pytest.approx(vols[2], rel=1e-12)
+    area = 2 * 12.5 * 60.0 * math.radians(60.0) * 26.0 / 12.5      # (a bound on the swept surface)
+    assert vols[1] != vols[2] and abs(vols[1] - vols[2]) <= tool_solid(tool, 0.01).deviation * area
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])

@@ -87,14 +87,15 @@ def test_parts_that_meet_only_cleared_material_cost_no_move_by_move_cut(tmp_path
     """Every row of the second turn has its shank inside the blank's box and the blank, so
     it is a candidate; measured once on the stock before its chunk it reaches nothing, so no
     row is cut and measured on its own, and the chunks are cut together as one path — the
-    part is the plain cut's."""
+    part is the plain cut's (to the slivers by which the poses at the ends of a path, cut
+    whole, differ from their fins where the one path has them: Stock._inner_fins)."""
     text = HEAD + FIRST_TURN + SECOND_TURN
     plain, plain_stock, _, table = _run(tmp_path, text, checks=False)
     checked, stock, moved, _ = _run(tmp_path, text, checks=True, monkeypatch=monkeypatch)
     assert len(table) > 3 * simulate_module.CHUNK          # several chunks
     assert checked.findings == []
     assert moved == []
-    assert stock.volume == pytest.approx(plain_stock.volume, rel=1e-8)
+    assert stock.volume == pytest.approx(plain_stock.volume, rel=2e-6)
     # held chunks are cut as one path: at most one more cut than the plain run's single path
     assert stock.stats.cutters <= plain_stock.stats.cutters + 2
 

@@ -32,6 +32,11 @@ its axis across its travel — all it removes beyond its neighbours but for its 
 scallop, at a fraction of the whole pose's cost in the booleans. Fan cutters' steps need none
 (their hull fills the cusps, :mod:`vmach.stock.fan`), nor do translation runs (exact).
 
+The same holds for a run's own placed poses between two rotary steps: beyond its neighbours
+a pose adds only the lenses along the envelope and its face's share, so it too is cut as its
+fin (widths over its two steps, :func:`fin_widths`) wherever its neighbours' fins are seen to
+hold the rest of it (:func:`fins_cover`); a run's first and last poses stay whole.
+
 Lengths mm, curvatures 1/mm.
 """
 
@@ -243,3 +248,75 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
     if face > 0:       # the flat face's chord RIM from its rim, where it makes a flank's foot
         out = np.maximum(out, math.sqrt(2.0 * face * RIM))
     return 1.25 * out + FIN_LEAST
+
+
+def outline(tool: Tool) -> tuple[np.ndarray, np.ndarray]:
+    """The true radius of ``tool`` along its axis: heights (k,) and radii (k,) mm, increasing
+    heights, for ``np.interp`` over [0, the cutting length] (the largest radius where the
+    profile steps at one height)."""
+    prof = tool.profile(tol.tool_chord)[:-1]                   # the closing point on the axis
+    zs = np.unique(prof[:, 0])
+    return zs, np.array([prof[prof[:, 0] == z, 1].max() for z in zs])
+
+
+def surface(tool: Tool) -> np.ndarray:
+    """Points (p, 3), tool frame, on the true tool's surface: the side's samples
+    (:func:`side`) and, for a flat end face, rings of it (AROUND per ring, 2 × SPACING apart)."""
+    pts = [side(tool).points]
+    zs, rs = outline(tool)
+    if rs[0] > 0:
+        ang = 2.0 * np.pi * (np.arange(AROUND) + 0.5) / AROUND
+        for r in np.linspace(rs[0], 0.0, max(2, math.ceil(rs[0] / (2 * SPACING))), endpoint=False):
+            pts.append(np.column_stack([r * np.cos(ang), r * np.sin(ang), np.zeros(AROUND)]))
+    return np.concatenate(pts)
+
+
+def fins_cover(tool: Tool, frames: np.ndarray, half: np.ndarray, which: np.ndarray, normal: np.ndarray,
+               holds, slack: float = 1e-3) -> np.ndarray:
+    """(w,) bool: which of the poses ``which`` (w,) int — of a path's poses (frames (n, 3, 4),
+    tool to work, joined by motion in order), each to be cut as its fin of half-width ``half``
+    (n,) mm (inf: whole; :func:`fin_widths`) — may be: every sample of the true tool's surface
+    at the pose (:func:`surface`) that may lie in the material (``holds``) and lies outside its
+    own slab ``|x·normal| <= half`` (tool frame) lies in the fin (or the whole tool) of another
+    pose of the path, to ``slack`` mm — the poses on either side, outward until the samples
+    are held or the next pose's tool lies beyond the tool's reach. The union of the fins then
+    holds what the whole poses would remove — a fin lies inside the true tool, so a pose whose
+    samples the others do not hold (a turn whose faces make a concave chain, a tool that also
+    moves along its side) stays whole."""
+    which = np.asarray(which, dtype=int)
+    out = np.ones(len(which), bool)
+    if len(which) == 0:
+        return out
+    pts = surface(tool)
+    zs, rs = outline(tool)
+    length = float(zs[-1])
+    nn = np.asarray(normal, dtype=float)
+    own = np.abs(pts @ nn)                                          # (p,) off the pose's plane
+    rot, tip = frames[:, :, :3], frames[:, :, 3]
+    reach = 2.0 * (length + float(rs.max()))
+    for k, i in enumerate(which):
+        off = own > half[i]
+        if not off.any():
+            continue
+        p = pts[off] @ rot[i].T + tip[i]                            # work frame
+        p = p[holds(p)]
+        # the other poses, nearest in the path first (i-1, i+1, i-2, ...), up to the first
+        # beyond the tool's reach
+        for c in range(1, len(frames), 4):
+            if len(p) == 0:
+                break
+            d = np.arange(c, c + 4)
+            j = np.stack([i - d, i + d], axis=1).ravel()
+            j = j[(j >= 0) & (j < len(frames))]
+            if len(j) == 0:
+                break
+            if np.any(np.linalg.norm(tip[j] - tip[i], axis=1) > reach):
+                break
+            local = np.einsum("mi,jik->jmk", p, rot[j]) - np.einsum("ji,jik->jk", tip[j], rot[j])[:, None]
+            z = local[..., 2]
+            inside = ((z >= -slack) & (z <= length + slack)
+                      & (np.hypot(local[..., 0], local[..., 1]) <= np.interp(z, zs, rs) + slack)
+                      & (np.abs(local @ nn) <= half[j][:, None] + slack))
+            p = p[~inside.any(axis=0)]
+        out[k] = len(p) == 0
+    return out

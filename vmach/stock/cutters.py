@@ -27,7 +27,7 @@ from vmach.stock.fan import (
     side_lines,
     side_samples,
 )
-from vmach.tooling.solid import ToolSolid, across, fin_points, frames, lateral, place, spun
+from vmach.tooling.solid import RIM_SAG, ToolSolid, across, fin_points, frames, lateral, place, spun
 
 _IDENTITY = np.hstack([np.eye(3), np.zeros((3, 1))])[None]
 
@@ -317,21 +317,22 @@ class CutterMaker:
         out = self._placed(ts.pieces[k], self._tool_shapes(ts)[k], self._tool_pieces(ts)[k],
                            fr[~np.isfinite(half)])
         for h in np.unique(half[np.isfinite(half)]):
-            if k == 0:
-                self.stats.cusp_fins += int(np.sum(half == h))
             out += self._placed(*self._fin_piece(ts, k, float(h)), fr[half == h])
         return out
 
     def _fin_piece(self, ts: ToolSolid, k: int, half: float) -> tuple[np.ndarray, Shape, engine.Solid]:
-        """(points, Shape, Solid) that cut an added pose of piece k, tool frame (cached): its
-        fin of half-width ``half`` mm — the true tool within that slab about the plane
-        through its axis and the lateral direction placed poses are turned for
+        """(points, Shape, Solid) that cut a pose of piece k as its fin, tool frame (cached):
+        of half-width ``half`` mm — the true tool within that slab about the plane through its
+        axis and the lateral direction placed poses are turned for
         (:func:`vmach.tooling.solid.fin_points`; its arcs within 0.8 of the stock's ``cusp``
-        of the true circles: 0.0006 mm at ``fine`` made the program's stock 68,000 → 76,000
-        triangles and took 19.5 → 21.7 s)."""
+        of the true circles, and within ``RIM_SAG``: 0.0006 mm at ``fine`` made the program's
+        stock 68,000 → 76,000 triangles and took 19.5 → 21.7 s; at ``standard``, 0.008 mm left
+        the shoulder 0.012 mm high where the turn's own poses were cut as fins)."""
         key = (id(ts), k, half)
         if key not in self._fin_cache:
-            pts = fin_points(ts.pieces[k], ts.segments, half, sag=0.8 * self.cusp)
+            # within 0.8 of the cusp they are to leave, and no coarser than a whole pose about its
+            # lateral (a pose between two rotary steps is cut as its fin too, Stock._inner_fins)
+            pts = fin_points(ts.pieces[k], ts.segments, half, sag=min(0.8 * self.cusp, RIM_SAG))
             self._fin_cache[key] = (pts, shape(*engine.hull_mesh(pts)), engine.hull(pts))
         return self._fin_cache[key]
 

@@ -25,7 +25,7 @@ import numpy as np
 
 from vmach.errors import InputError
 from vmach.output import atomic_writer, make_dir, writable_dir
-from vmach.stock import cusps, engine
+from vmach.stock import cusps, cutters, engine
 from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, shape
 from vmach.stock.column import Column, plan_columns
@@ -60,7 +60,8 @@ class CutStats:
     anyway; fan_covered_mm : the largest such bridge where other poses of the path do (a
     helix's other turns; :func:`vmach.stock.fan.covered`); cusp_poses : placed poses added
     between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`), and
-    cusp_fins : those cut as their fin only (:func:`vmach.stock.cusps.fin_widths`); columns :
+    cusp_fins : those cut as their fin only (:func:`vmach.stock.cusps.fin_widths`); inner_fins :
+    placed poses between two placed rotary steps cut as their fin (:meth:`Stock._inner_fins`); columns :
     column cutters (:mod:`vmach.stock.column`) and column_cells : the turns' cells they hold;
     column_overcut_mm : the deepest a column's face chain lies below one of its turns' own, or
     its hull bridges a floor beyond what the path cuts anyway (mm; also in fan_overcut_mm);
@@ -81,6 +82,7 @@ class CutStats:
     fan_covered_mm: float = 0.0
     cusp_poses: int = 0
     cusp_fins: int = 0
+    inner_fins: int = 0
     columns: int = 0
     column_cells: int = 0
     axial_runs: int = 0
@@ -344,7 +346,9 @@ class Stock(CutterMaker):
             cols, fans = cp.columns, cp.fans
         path = (tips, unit)                       # what else the path cuts
         key = poses.astype(float)                 # where each placed pose lies along the path
-        fins = np.full(len(fr), np.inf)           # added poses: only their fin (cusps.fin_widths)
+        fins = np.full(len(fr), np.inf)           # poses cut as their fin only (cusps.fin_widths)
+        if self.trim and isinstance(tool, Tool):
+            fins = self._inner_fins(tool, ts, fr, rotary, fan_runs, poses)
         if between is not None and self.trim and isinstance(tool, Tool):
             more, at, half = self._cusp_poses(tool, ts, tips, fr, rotary, fan_runs, between)
             if len(more):
@@ -352,6 +356,7 @@ class Stock(CutterMaker):
                 key = np.r_[key, at]
                 fr = np.concatenate([fr, more])
                 fins = np.r_[fins, half]
+                self.stats.cusp_fins += int(np.isfinite(cutters._fin_bucket(half, ts.radius)).sum())
         start = np.concatenate([key, [runs[g, 0].min() for g in groups], fans.runs[:, 0],
                                 [c.cells[0, 0] for c in cols]])
         kind = np.r_[np.zeros(len(poses), int), np.ones(len(groups), int), np.full(len(fans.runs), 2),
@@ -436,6 +441,45 @@ class Stock(CutterMaker):
                                 np.repeat(parts[need], parts[need] - 1), sd, self._holds, face)
         self.stats.cusp_poses += len(t)
         return more, np.asarray(at, dtype=float), half
+
+    def _inner_fins(self, tool: Tool, ts: ToolSolid, fr: np.ndarray, rotary: np.ndarray, fan_runs: np.ndarray,
+                    poses: np.ndarray) -> np.ndarray:
+        """(n,) mm: the fin half-widths of the placed poses ``poses`` of a flat or face mill
+        (a prism: its fins are slabs of a few of its facets; a cone's hold nearly all of it)
+        between two rotary steps that no fan or column holds (:mod:`vmach.stock.cusps`: widths
+        over the two steps, as an added pose's over one; rounded as cut,
+        :func:`vmach.stock.cutters._fin_bucket`) whose neighbours' fins hold the rest of them
+        (:func:`vmach.stock.cusps.fins_cover`); inf for every other pose (cut whole, or not
+        placed: a fan's, a translation run's)."""
+        n = len(fr)
+        out = np.full(n, np.inf)
+        if n < 3 or self._prism(ts) is None:
+            return out
+        steps = np.asarray(rotary, bool).copy()
+        for first, last in fan_runs:
+            steps[first:last] = False
+        inner = np.zeros(n, bool)
+        inner[1:-1] = steps[:-1] & steps[1:]
+        placed = np.zeros(n, bool)
+        placed[poses] = True
+        # (poses whose tool's box misses the stock's are culled anyway)
+        box = cylinder_boxes(fr[:, :, 3], fr[:, :, 2], 0.0, ts.length, ts.radius)
+        lo, hi = self.bounds
+        placed &= np.all(box[:, 0] <= hi, axis=1) & np.all(box[:, 1] >= lo, axis=1)
+        idx = np.nonzero(inner & placed)[0]
+        sd = cusps.side(tool)
+        if len(idx) == 0 or len(sd.points) == 0:
+            return out
+        normal = cusps.fin_normal(ts.segments)
+        zs, rs = cusps.outline(tool)
+        half = cusps.fin_widths(fr[idx], fr[idx - 1], fr[idx + 1], normal, np.full(len(idx), 2), sd,
+                                self._holds, float(rs[0]) if zs[0] == 0.0 else 0.0)
+        out[idx] = cutters._fin_bucket(half, ts.radius)
+        idx = idx[np.isfinite(out[idx])]
+        ok = cusps.fins_cover(tool, fr, out, idx, normal, self._holds)
+        out[idx[~ok]] = np.inf
+        self.stats.inner_fins += int(ok.sum())
+        return out
 
     def _holds(self, points: np.ndarray) -> np.ndarray:
         """(...) bool: points (..., 3) that may lie in the stock (a superset: the trim slabs'
