@@ -259,6 +259,11 @@ def outline(tool: Tool) -> tuple[np.ndarray, np.ndarray]:
     return zs, np.array([prof[prof[:, 0] == z, 1].max() for z in zs])
 
 
+def face_radius(tool: Tool) -> float:
+    """Radius (mm) of the tool's flat end face (0 for a pointed tool)."""
+    return float(outline(tool)[1][0])
+
+
 def surface(tool: Tool) -> np.ndarray:
     """Points (p, 3), tool frame, on the true tool's surface: the side's samples
     (:func:`side`) and, for a flat end face, rings of it (AROUND per ring, 2 × SPACING apart)."""

@@ -104,6 +104,15 @@ def _within(runs: np.ndarray, outer: np.ndarray) -> np.ndarray:
     return ok & (outer[kk, 0] <= runs[:, 0]) & (runs[:, 1] <= outer[kk, 1])
 
 
+def _placed_steps(rotary: np.ndarray, fan_runs: np.ndarray) -> np.ndarray:
+    """(n-1,) bool: the ``rotary`` steps of a path that no fan or column holds (``fan_runs``
+    (f, 2): [first, last] pose of each): left to placed poses."""
+    steps = np.asarray(rotary, bool).copy()
+    for first, last in fan_runs:
+        steps[first:last] = False
+    return steps
+
+
 def _outside_runs(poses: np.ndarray, runs: np.ndarray) -> np.ndarray:
     """Placed poses not on a translation run: the run's hull (the tool swept along the run's
     segment, same axis) already contains the tool at every pose of the run."""
@@ -416,9 +425,7 @@ class Stock(CutterMaker):
         poses are — their places along the path (e,) float (step + fraction) and the
         half-widths (e,) mm of the fins that cut them (:func:`vmach.stock.cusps.fin_widths`)."""
         none = np.zeros((0, 3, 4)), np.zeros(0), np.zeros(0)
-        steps = np.asarray(rotary, bool).copy()
-        for first, last in fan_runs:
-            steps[first:last] = False
+        steps = _placed_steps(rotary, fan_runs)
         # steps whose tool may reach the stock's bounds at all
         lo, hi = self.bounds
         reach = ts.length + ts.radius
@@ -435,10 +442,9 @@ class Stock(CutterMaker):
         unit = np.asarray(ax, dtype=float) / np.linalg.norm(ax, axis=1, keepdims=True)
         step = np.repeat(idx[need], parts[need] - 1)
         more = spun(frames(t, unit), across(unit, tips[step + 1] - tips[step]), ts.segments)
-        prof = tool.profile(tol.tool_chord)
-        face = float(prof[prof[:, 0] <= 1e-12, 1].max())                # a flat end face's radius
         half = cusps.fin_widths(more, fr[step], fr[step + 1], cusps.fin_normal(ts.segments),
-                                np.repeat(parts[need], parts[need] - 1), sd, self._holds, face)
+                                np.repeat(parts[need], parts[need] - 1), sd, self._holds,
+                                cusps.face_radius(tool))
         self.stats.cusp_poses += len(t)
         return more, np.asarray(at, dtype=float), half
 
@@ -455,9 +461,7 @@ class Stock(CutterMaker):
         out = np.full(n, np.inf)
         if n < 3 or self._prism(ts) is None:
             return out
-        steps = np.asarray(rotary, bool).copy()
-        for first, last in fan_runs:
-            steps[first:last] = False
+        steps = _placed_steps(rotary, fan_runs)
         inner = np.zeros(n, bool)
         inner[1:-1] = steps[:-1] & steps[1:]
         placed = np.zeros(n, bool)
@@ -471,9 +475,8 @@ class Stock(CutterMaker):
         if len(idx) == 0 or len(sd.points) == 0:
             return out
         normal = cusps.fin_normal(ts.segments)
-        zs, rs = cusps.outline(tool)
         half = cusps.fin_widths(fr[idx], fr[idx - 1], fr[idx + 1], normal, np.full(len(idx), 2), sd,
-                                self._holds, float(rs[0]) if zs[0] == 0.0 else 0.0)
+                                self._holds, cusps.face_radius(tool))
         out[idx] = cutters._fin_bucket(half, ts.radius)
         idx = idx[np.isfinite(out[idx])]
         ok = cusps.fins_cover(tool, fr, out, idx, normal, self._holds)
