@@ -538,3 +538,104 @@ def test_random_helices_over_two_turns_stay_within_the_bound(library, seed):
     for z in (-3.0, -10.0):
         for phi in phis[::5]:
             assert inward(fans.solid, phi, z) <= inward(cuts["dense"].solid, phi, z) + 1e-5
+
+
+class _Pose:
+    def __init__(self, tip, axis):
+        self.tip, self.axis = tip, axis
+
+
+def _turn_motion(tool, x: float, y: float, z: float, c: np.ndarray):
+    """A turn of ``tool`` about the work axis (turn-mill poses at X, Y, Z, C1 degrees c) as a
+    :class:`vmach.stock.sweeps.Motion`: its machine axes and their kinematics."""
+    from vmach.stock.cusps import outline
+    from vmach.stock.sweeps import Motion
+
+    q = np.column_stack(np.broadcast_arrays(x, y, z, c)).astype(float)
+    tips, axes = turnmill(q[:, 0], q[:, 1], q[:, 2], q[:, 3])
+    return Motion(q, lambda qq: _Pose(*turnmill(qq[:, 0], qq[:, 1], qq[:, 2], qq[:, 3])), tips, axes,
+                  *outline(tool))
+
+
+def test_what_another_paths_true_tool_sweeps(library):
+    """Sweeps.holds: a point is held where another path's true tool passes through it — the
+    D25 turned 60° about the work axis at X = 25, its floor at z = -40: just above the floor
+    (0.01 mm) between two of its sampled poses, yes; just below it, in front of its face, or
+    where it never turns to, no; its own path skipped, nothing."""
+    from vmach.stock.sweeps import Sweeps
+
+    tool = library.lookup("GLOD D25")
+    sweeps = Sweeps([_turn_motion(tool, 25.0, 0.0, -27.5, np.arange(0.0, 61.0, 1.713))])
+    z = np.array([0.0, 0.0, 1.0])
+
+    def at(r, deg, height):
+        a = np.radians(deg)
+        return [r * np.cos(a), r * np.sin(a), height]
+
+    pts = np.array([at(26.0, 30.85, -39.99), at(29.5, 10.3, -39.99), at(26.0, 30.85, -40.01),
+                    at(24.9, 30.85, -35.0), at(26.0, 90.0, -35.0)])
+    assert sweeps.holds(pts, z).tolist() == [True, True, False, False, False]
+    assert not sweeps.holds(pts, z, skip=0).any()
+
+
+def test_a_rim_band_another_paths_tool_sweeps_is_fanned(library):
+    """The D25 3 mm off the contact point at X = 26 leaves a foot at its face's rim, so its
+    steps are not fanned (test_fans_keep_the_foot_a_face_rim_leaves) — unless another path's
+    true tool sweeps that band: a finishing turn 1 mm deeper, centred, at the same floor, cuts
+    through the feet (its body, from its face at X = 25 outward, passes them just above the
+    floor). Told so (``others``), the first turn is fanned; the two cut together leave the
+    part of the two cut densely without fans, within the scallop of the sampled faces."""
+    from vmach.stock.sweeps import Sweeps
+
+    tool = library.lookup("GLOD D25")
+    first = (26.0, 3.0, -27.5)
+    finish = (25.0, 0.0, -27.5)
+
+    def cut(sub, others=None, **kw):
+        c = np.arange(0.0, 60.0 * sub + 1e-9, 1.0) * 1.713 / sub
+        stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.002, **kw)
+        n = stock.cut(tool, *turnmill(*first, c), others=others)
+        fans = stock.stats.fans
+        stock.cut(tool, *turnmill(*finish, np.arange(-10.0, 120.0, 1.713 / sub)))
+        return stock, n, fans
+
+    c = np.arange(0.0, 60.0 + 1e-9, 1.0) * 1.713
+    sweeps = Sweeps([_turn_motion(tool, *first, c),
+                     _turn_motion(tool, *finish, np.arange(-10.0, 120.0, 1.713))])
+    plain, _, plain_fans = cut(1)
+    told, n_told, told_fans = cut(1, sweeps.others(0))
+    dense, _, _ = cut(8, fans=False)
+    assert plain_fans == 0 and told_fans > 0
+    assert n_told < plain.stats.cutters - 10
+    bound = float(scallop_bound(25.0, 1.713))
+    for zz in (-39.98, -35.0, -25.0):
+        for q in np.radians(np.linspace(5.0, 95.0, 19)):
+            gap = inward(dense.solid, q, zz) - inward(told.solid, q, zz)
+            assert -1e-4 <= gap <= bound + 1e-4
+    phis = np.radians(np.linspace(5.0, 95.0, 31))
+    rs = np.array([25.5, 27.0, 29.5])
+    assert np.nanmax(np.abs(floor_hits(told.solid, phis, rs) - floor_hits(dense.solid, phis, rs))) <= 1e-3
+
+
+@pytest.mark.parametrize("sense, phase", [(1.0, 90.0), (1.0, 180.0), (-1.0, 270.0)])
+def test_a_fans_end_poses_are_turned_for_its_own_steps(library, sense, phase):
+    """A facing pass of the D40 face mill (turn C, slide X/Y, ...), fanned, then a retract
+    along the rotation axis, as the polygon program does between its passes. The fan's last
+    pose turned for the move from the slide before it to the retract after it would have its
+    polygon exact toward a direction 88° off the floor's: a vertex 2° off the floor then dips
+    below it, and the fan's hull spreads the dip (measured 0.0035–0.0059 mm below the floor
+    for these phases). Turned for its own step, the floor is nowhere below the true one."""
+    tool = library.lookup("GLOD D40")
+    c = sense * np.arange(31) * 1.713
+    x = 25.0 + 0.5 * np.sin(np.radians(3 * c + phase))
+    y = 1.5 * np.cos(np.radians(3 * c + phase))
+    tips, axes = _zigzag(x, y, np.full(len(c), -20.0), c, 1)
+    tips = np.vstack([tips, tips[-1] + [0.0, 0.0, 10.0]])          # then up along Z
+    axes = np.vstack([axes, axes[-1]])
+    stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
+    stock.cut(tool, tips, axes, others=lambda p, om: np.ones(len(p), bool))   # every rim swept
+    assert stock.stats.fans > 0
+    lo, hi = sorted([c[0], c[-1]])
+    phis = np.radians(np.linspace(lo - 15.0, hi + 15.0, 300))
+    floor = floor_hits(stock.solid, phis, np.array([26.5, 27.5, 28.5, 29.5]), top=-30.0)
+    assert np.nanmin(floor) >= -40.0 - 1e-6

@@ -159,7 +159,7 @@ def may_fan(rotary: np.ndarray) -> bool:
 def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Prism, *,
               max_angle: float = tol.fan_angle, slides: np.ndarray | None = None,
               clear: np.ndarray | None = None, rim: float = tol.fan_overcut,
-              stock_box: np.ndarray | None = None) -> FanPlan:
+              stock_box: np.ndarray | None = None, others=None) -> FanPlan:
     """Candidate fan runs of a path: maximal stretches of rotary steps — and, where
     ``slides`` (n-1,) bool allows, of steps that keep the axis and move the tool perpendicular
     to the rotation axis in between (a facing pass that indexes the workpiece and moves the
@@ -176,7 +176,9 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     such poses join a run. rim : mm — the most the face chain may lie below the path of the
     faces' rims (:func:`rim_standoff`), unless the path cuts the rim's band anyway or the
     band lies beyond ``stock_box`` (2, 3), the stock's bounds. Steps not in a run are left to
-    placed poses and translation hulls.
+    placed poses and translation hulls. others : groups of points (g, k, 3), omega -> (g,)
+    bool — whether other paths' true tools sweep every point of a group
+    (:mod:`vmach.stock.sweeps`): a rim band they sweep above ``rim`` is taken anyway.
     """
     tips = np.asarray(tips, dtype=float)
     a = np.asarray(axes, dtype=float)
@@ -213,7 +215,7 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     near = np.minimum(rim_standoff(tips, a, angle), band) <= rim
     if not near.all():
         near |= _rims_covered(tips, a, w, turn, band, rim, r, ~near,
-                              tool.inner, stock_box)
+                              tool.inner, stock_box, others)
     ok &= near
     slide &= near
     move = tips[1:] - tips[:-1]
@@ -305,10 +307,14 @@ def _turns_around(turn: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.ndarray, band: np.ndarray,
                   rim: float, radius: float, which: np.ndarray, inner: float,
-                  box: np.ndarray | None = None) -> np.ndarray:
+                  box: np.ndarray | None = None, others=None) -> np.ndarray:
     """(n-1,) bool: of the steps ``which``, those whose rim bands the path cuts anyway, or
     that lie beyond the stock's bounding ``box`` (2, 3) along omega (the tool's inscribed
-    radius ``inner`` from the tip: the least the true rim reaches).
+    radius ``inner`` from the tip: the least the true rim reaches), or that the true tools of
+    other paths sweep (``others``: groups of points (g, k, 3), omega -> (g,) bool,
+    :meth:`vmach.stock.sweeps.Sweeps.others`) above the height ``rim`` that a band may have
+    anyway — points of the face chain across the band's stretch (``RIM_SAMPLES``) at heights
+    from ``rim`` to the band's, just on the tool's side of the face.
 
     Whatever a fan takes in the band at a face's rim (:func:`rim_standoff`) is taken by the
     true motion too if the path passes the same place again with the face at full width
@@ -356,9 +362,58 @@ def _rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.nd
         bottom = np.minimum(box[0] * pose_om, box[1] * pose_om).sum(axis=1)
         upper |= reach + inner - pose_band >= top
         lower |= reach - inner + pose_band <= bottom
+    if others is not None:
+        for sign, done in ((-1.0, lower), (1.0, upper)):
+            need = qs[~done[qs] & np.any(pose_om[qs], axis=1) & (pose_band[qs] > rim)]
+            if len(need):
+                # from the true rim: halfway between the straddling polygon's vertices and its
+                # inscribed circle
+                done[need] = _swept_by_others(tips, axes, need, pose_om[need], sign, pose_band[need],
+                                              rim, 0.5 * (radius + inner), others)
     both = lower & upper & np.any(pose_om, axis=1)
     out = np.zeros(n - 1, bool)
     out[steps] = both[steps] & both[steps + 1]
+    return out
+
+
+#: points across (along the face line) and up (heights) of a rim's band tried against other
+#: paths' sweeps (:func:`_rims_covered`)
+RIM_SAMPLES = (3, 2)
+
+
+def _swept_by_others(tips: np.ndarray, axes: np.ndarray, which: np.ndarray, om: np.ndarray, sign: float,
+                     band: np.ndarray, rim: float, radius: float, others) -> np.ndarray:
+    """(w,) bool: of the poses ``which`` (w,) of a path (tips, unit axes (n, 3)), each with its
+    omega (w, 3) and its rim's band (heights (w,) mm), those whose rim toward ``sign``·omega
+    has the band swept above ``rim`` by other paths' true tools (``others``). The band lies on
+    the face chain — what a fan cuts to, the lowest of the face planes of the poses within
+    two of it — across its stretch (as wide as the disc is at the band's top) at heights from
+    ``rim`` to the band's above the true rim (``radius``): those points, 0.001 mm above the
+    chain, are asked as one group (``others``: groups (g, k, 3), omega -> (g,) bool, every
+    point swept; :meth:`vmach.stock.sweeps.Sweeps.holds_all`), the middle one first."""
+    across, up = RIM_SAMPLES
+    t, a = tips[which], axes[which]
+    half = np.sqrt(np.maximum(2.0 * radius * band - band * band, 0.0))             # (w,)
+    line = np.cross(om, a)
+    u = np.linspace(0.0, 1.0, up)[None, :] * (band - rim)[:, None] + rim              # (w, up)
+    s = np.linspace(-1.0, 1.0, across)[None, :] * half[:, None]                        # (w, across)
+    pts = (t + sign * radius * om)[:, None, None] - sign * u[:, None, :, None] * om[:, None, None] \
+        + s[:, :, None, None] * line[:, None, None]                                   # (w, across, up, 3)
+    # down to the chain: the lowest face plane of the poses around (n·x <= h below each)
+    h = np.einsum("ij,ij->i", tips, axes)
+    depth = np.zeros(pts.shape[:3])
+    for off in range(-2, 3):
+        j = np.clip(which + off, 0, len(tips) - 1)
+        depth = np.maximum(depth, np.einsum("wabi,wi->wab", pts, axes[j]) - h[j][:, None, None])
+    pts = pts - (depth - 1e-3)[..., None] * a[:, None, None]
+    # the middle sample first: others' groups are looked for by their first point
+    mid = across // 2 * up + up // 2
+    flat = pts.reshape(len(which), -1, 3)
+    flat = np.concatenate([flat[:, mid : mid + 1], np.delete(flat, mid, axis=1)], axis=1)
+    out = np.zeros(len(which), bool)
+    for o in np.unique(np.round(om, 9), axis=0):                                      # by omega
+        grp = np.nonzero(np.all(np.abs(om - o) <= 1e-9, axis=1))[0]
+        out[grp] = others(flat[grp], o)
     return out
 
 

@@ -24,7 +24,7 @@ import numpy as np
 from vmach.errors import ProgramError
 from vmach.findings import Finding, warning
 from vmach.motion.table import TRAVERSE
-from vmach.stock import engine
+from vmach.stock import cusps, engine
 from vmach.stock.events import (
     Part,
     body_parts,
@@ -36,6 +36,7 @@ from vmach.stock.events import (
 )
 from vmach.stock.stock import Stock
 from vmach.stock.sweep import rotary_substeps, scallop_bound
+from vmach.stock.sweeps import Motion, Sweeps
 from vmach.tol import tol
 
 
@@ -140,9 +141,11 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
     tool = np.asarray(table.tool)
     box = np.asarray(stock.initial_bounds)
     r_stock = float(np.hypot(np.abs(box[:, 0]).max(), np.abs(box[:, 1]).max()))
-    # paths: maximal runs of rows with the same tool
+    # paths: maximal runs of rows with the same tool, all sampled first: what each path's
+    # true tool sweeps tells the others' fans which rim bands are taken anyway (stock.sweeps)
     cuts = np.nonzero(np.diff(tool) != 0)[0] + 1
     missing: set[str] = set()
+    paths = []
     for a, b in zip(np.r_[0, cuts], np.r_[cuts, n], strict=True):
         ti = int(tool[a])
         if ti < 0:
@@ -165,10 +168,16 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
                                table.source(a + exc.row)) from None
         pose = model.fk(q)
         res.kinematics_seconds += time.perf_counter() - tk
+        paths.append((a, b, found, q, k, pose))
+    zr = [cusps.outline(found) for _, _, found, _, _, _ in paths]
+    sweeps = Sweeps([Motion(q, model.fk, np.asarray(pose.tip, dtype=float), _unit(pose.axis), *o)
+                     for (_, _, _, q, _, pose), o in zip(paths, zr, strict=True)])
+    for i, (a, b, found, q, k, pose) in enumerate(paths):
         if checks:
-            _cut_checked(stock, found, table, a, b, k, pose, res, clearance, partial(_between, q, model.fk))
+            _cut_checked(stock, found, table, a, b, k, pose, res, clearance, partial(_between, q, model.fk),
+                         sweeps.others(i))
         else:
-            stock.cut(found, pose.tip, pose.axis, _between(q, model.fk))
+            stock.cut(found, pose.tip, pose.axis, _between(q, model.fk), sweeps.others(i))
         res.moves += b - a
         res.samples += len(q)
         if rotary.any() and len(q) > 1:
@@ -189,6 +198,11 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
     return res
 
 
+def _unit(v) -> np.ndarray:
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v, axis=1, keepdims=True)
+
+
 def _between(q: np.ndarray, fk, offset: int = 0):
     """The poses inside sampled steps, as :meth:`Stock.cut` asks for them: the machine axes
     ``q`` (m, k) of a path's samples interpolated linearly — as the control moves them within
@@ -207,7 +221,7 @@ RAPIDS_JUDGED = 8  # a chunk's rapids are judged on the stock before it when the
 
 
 def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose, res: SimResult,
-                 clearance: float = tol.near_miss, between=None) -> None:
+                 clearance: float = tol.near_miss, between=None, others=None) -> None:
     """Cut rows a..b-1 (samples: row j spans pose[first_j .. first_j + k_j]) and report rapids
     into material and shank/holder contact (:mod:`vmach.stock.events`).
 
@@ -223,7 +237,8 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
     rows are cut one by one from the local stock, and each watched row is measured on it
     exactly; the chunk is then cut from the stock as one path. ``between(offset)``: the poses
     inside sampled steps for :meth:`Stock.cut` given the samples from ``offset`` on
-    (:func:`_between` of the path's machine axes)."""
+    (:func:`_between` of the path's machine axes); ``others``: what the other paths' true
+    tools sweep (:meth:`vmach.stock.sweeps.Sweeps.others`), for the fans of every cut."""
     tips, ax = pose.tip, pose.axis
 
     def inside(s: int):
@@ -255,7 +270,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
 
     def release() -> None:
         if held[0] is not None:
-            stock.cut(tool, tips[held[0] : held[1]], ax[held[0] : held[1]], inside(held[0]))
+            stock.cut(tool, tips[held[0] : held[1]], ax[held[0] : held[1]], inside(held[0]), others)
             held[:] = [None, None]
 
     for c0 in range(0, b - a, CHUNK):
@@ -328,7 +343,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
                              probes.get(("rapid", j)),
                              [(p, probes[(p.name, j)][0]) for p in parts if (p.name, j) in probes], res,
                              clearance)
-        stock.cut(tool, tips[s:e], ax[s:e], inside(s))
+        stock.cut(tool, tips[s:e], ax[s:e], inside(s), others)
     release()
 
 

@@ -264,7 +264,8 @@ class Stock(CutterMaker):
         return np.stack([b[0] - tol.trim_margin, b[1] + tol.trim_margin])
 
     # ----------------------------------------------------------------------------------------
-    def cut(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None) -> int:
+    def cut(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None,
+            others=None) -> int:
         """Queue the swept volume of one path; returns the number of cutters made.
 
         tool : Tool (polygonised with this stock's chord) or a ready ToolSolid.
@@ -277,9 +278,13 @@ class Stock(CutterMaker):
             step by step, ``at`` = i + fraction. With it, rotary steps placed as poses get
             more poses where a curved side of a Tool would leave cusps over
             the stock's ``cusp`` (``tol.sweep_cusp``; :mod:`vmach.stock.cusps`).
+        others : callable ``(groups (g, k, 3), omega (3,)) -> (g,) bool``: which groups of
+            points the true tools of the program's other paths sweep whole
+            (:meth:`vmach.stock.sweeps.Sweeps.others`); a fan may take a flat face's rim band
+            there (:func:`vmach.stock.fan.plan_fans`).
         """
         n = 0
-        for ts, jobs in self._sweep(tool, tips, axes, between):
+        for ts, jobs in self._sweep(tool, tips, axes, between, others):
             t0 = time.perf_counter()
             cutters, boxes = self._make(ts, jobs)
             self.stats.sweep_seconds += time.perf_counter() - t0
@@ -300,7 +305,7 @@ class Stock(CutterMaker):
             boxes += b
         return cutters, boxes
 
-    def _sweep(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None):
+    def _sweep(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None, others=None):
         """Yield (tool solid, jobs) for consecutive stretches of a path, in path order. A job
         is ``(piece, frames (m, 3, 4) of placed poses, [(frame_a, frame_b) of each translation
         run], [(tips, unit axes, omega, frames, path) of each fan run — piece 0 only])``, with
@@ -336,9 +341,17 @@ class Stock(CutterMaker):
         # fan runs over rotary steps and the straight steps between them (fan.plan_fans);
         # the placed poses and translation runs they hold are left out
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-        fans = self._fans(ts, tips, unit, rotary, ~rotary)
+        fans = self._fans(ts, tips, unit, rotary, ~rotary, others)
         runs = sp.runs
         if len(fans.runs):
+            # a fan's end poses turned for its own steps, not for the move beyond it (a retract
+            # along the rotation axis would tilt their polygon's exact directions off the floor
+            # the fan's side makes, and its hull spreads what the tilt takes below it)
+            a, b = fans.runs[:, 0], fans.runs[:, 1]
+            ends = np.r_[a, b]
+            step = np.r_[tips[a + 1] - tips[a], tips[b] - tips[b - 1]]
+            sides[ends] = across(unit[ends], step)
+            fr[ends] = spun(frames(tips[ends], axes[ends]), sides[ends], ts.segments)
             poses = _outside_runs(poses, fans.runs)
             runs = runs[~_within(runs, fans.runs)]
         fan_runs = fans.runs                      # every step a fan or a column holds
@@ -561,15 +574,16 @@ class Stock(CutterMaker):
         return self._hull.outer if self._blank_convex else None
 
     def _fans(self, ts: ToolSolid, tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray,
-              slides: np.ndarray):
+              slides: np.ndarray, others=None):
         """Candidate fan runs over the ``rotary`` steps (n-1,) bool of a path (tips, unit
         axes (n, 3)) and the ``slides`` between them (:func:`vmach.stock.fan.plan_fans`; none
-        unless the tool is one flat-faced prism and fans are on)."""
+        unless the tool is one flat-faced prism and fans are on); ``others``: what other
+        paths' true tools sweep (:meth:`vmach.stock.sweeps.Sweeps.others`)."""
         pr = self._prism(ts) if self.fans else None
         if pr is None or not may_fan(rotary):
             return NO_FANS                 # (before the back test, which costs)
         return plan_fans(tips, axes, rotary, pr, slides=slides, clear=self._back_clear(tips, axes, pr),
-                         stock_box=self.bounds)
+                         stock_box=self.bounds, others=others)
 
     def _back_clear(self, tips: np.ndarray, axes: np.ndarray, pr) -> np.ndarray:
         """(n,) bool: poses (tips, unit axes (n, 3)) whose prism's back face has the stock
