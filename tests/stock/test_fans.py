@@ -578,6 +578,23 @@ def test_what_another_paths_true_tool_sweeps(library):
     assert not sweeps.holds(pts, z, skip=0).any()
 
 
+def test_a_crossing_off_the_tips_azimuth_is_found_in_the_wide_window(library):
+    """The D25 8 mm off centre (Y = 8): its plane through the axis and the work Z passes a
+    point on its axis at r = 30 when the tip's azimuth is 2.2° past the point's — beyond the
+    narrow window that is searched first (WINDOWS[0]), so only the wide one holds it."""
+    from vmach.stock.sweeps import WINDOWS, Sweeps, _crossings
+
+    tool = library.lookup("GLOD D25")
+    motion = _turn_motion(tool, 25.0, 8.0, -27.5, np.arange(0.0, 61.0, 1.713))
+    z = np.array([0.0, 0.0, 1.0])
+    a = np.radians(30.0 - np.degrees(np.arctan2(8.0, 25.0)) + np.degrees(np.arcsin(8.0 / 30.0)))
+    point = np.array([[30.0 * np.cos(a), 30.0 * np.sin(a), -27.5]])
+    assert WINDOWS[0] < np.radians(2.0) < WINDOWS[-1]
+    assert len(_crossings(motion, point, z, WINDOWS[0])[0]) == 0
+    assert len(_crossings(motion, point, z, WINDOWS[-1])[0]) > 0
+    assert Sweeps([motion]).holds(point, z).tolist() == [True]
+
+
 def test_a_rim_band_another_paths_tool_sweeps_is_fanned(library):
     """The D25 3 mm off the contact point at X = 26 leaves a foot at its face's rim, so its
     steps are not fanned (test_fans_keep_the_foot_a_face_rim_leaves) — unless another path's
