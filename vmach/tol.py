@@ -112,11 +112,11 @@ class Accuracy:
 
 
 #: ``standard``: the defaults (7–11 s for the polygon-shaft program, within +0.015 / −0.0093 mm
-#: of a converged simulation). ``fine``: tools to 0.004 mm, side cusps to 0.0025 mm, and flat or
-#: face mills round about the directions their poses are made exact toward — within +0.0059 /
-#: −0.0035 mm but for two points of the flank/shoulder corner line (+0.0059), about 1.9 times
-#: the time (docs/stock.md).
+#: of a converged simulation). ``fine``: tools to 0.004 mm, side cusps to 0.0035 mm, and flat or
+#: face mills round about the directions their poses are made exact toward — within +0.0060 /
+#: −0.0035 mm but for two points of the flank/shoulder corner line (+0.0060; 0.0041 elsewhere),
+#: about 1.7 times the time (docs/stock.md).
 ACCURACY = {
     "standard": Accuracy(tool_chord=tol.tool_chord, sweep_cusp=tol.sweep_cusp),
-    "fine": Accuracy(tool_chord=0.004, sweep_cusp=0.0025, rim_arcs=True),
+    "fine": Accuracy(tool_chord=0.004, sweep_cusp=0.0035, rim_arcs=True),
 }

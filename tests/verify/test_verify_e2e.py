@@ -125,7 +125,7 @@ def test_accuracy_fine_simulates_to_its_finer_bounds_and_says_so(tmp_path, capsy
     text = capsys.readouterr().out
     sim = json.loads((out / "report.json").read_text())["simulation"]
     assert sim["accuracy"] == "fine"
-    assert (sim["error_bounds_mm"]["tool_polygon"], sim["error_bounds_mm"]["side_cusps"]) == (0.004, 0.0025)
+    assert (sim["error_bounds_mm"]["tool_polygon"], sim["error_bounds_mm"]["side_cusps"]) == (0.004, 0.0035)
     assert re.search(r"stock \(fine accuracy\): \d+ cutters .* 0\.004 mm on sides", text)
     standard = verify(prog, VerifyOptions(images=False))
     fine = verify(prog, VerifyOptions(images=False, accuracy="fine"))

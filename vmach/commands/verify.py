@@ -46,7 +46,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--accuracy",
         choices=tuple(ACCURACY),
         help="stock simulation: standard (tool polygons and side cusps to 0.01 mm) or fine (0.004 / "
-        "0.0025 mm: about 0.005 mm everywhere, about twice the time; docs/stock.md); default: "
+        "0.0035 mm: about 0.005 mm everywhere, about 1.7 times the time; docs/stock.md); default: "
         "the vmach.toml's accuracy, else standard",
     )
     p.add_argument("--max-blocks", type=int, default=tol.max_blocks)
