@@ -365,3 +365,103 @@ def test_a_turns_placed_poses_cut_as_fins_leave_the_whole_poses_part(library, mo
         b = axis_contour(whole.section(z))
         ra, rb = np.hypot(*a.T), np.hypot(*b.T)
         assert abs(ra.min() - rb.min()) <= dev
+
+
+def test_rim_feet_are_the_triangle_two_corners_leave():
+    """rim_feet at the lateral sample: a flat face's rim corner moved by du along the axis
+    and dv along the rim's outward normal leaves the right triangle of legs du, dv between
+    the two quadrants: |du dv| / sqrt(du² + dv²) high, its right angle where the later face
+    meets the earlier rim — none when du and dv differ in sign (one quadrant holds the
+    other's corner) or when the edge only slides along itself."""
+    from vmach.stock.feet import FOOT_SAMPLES, rim_feet
+    from vmach.tooling.solid import lateral_angle
+
+    segments, radius = 56, 12.5
+    a = frames(np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]))
+    alpha = lateral_angle(segments)
+    er = a[0, :, :3] @ np.array([math.cos(alpha), math.sin(alpha), 0.0])      # the lateral, world
+    along = a[0, :, :3] @ np.array([-math.sin(alpha), math.cos(alpha), 0.0])
+    k = FOOT_SAMPLES // 2
+    for du, dv, want in ((0.01, 0.02, 0.01 * 0.02 / math.hypot(0.01, 0.02)), (-0.01, -0.005, None),
+                         (0.01, -0.02, 0.0), (-0.01, 0.02, 0.0), (0.0, 0.0, 0.0)):
+        b = a.copy()
+        b[0, :, 3] += du * a[0, :, 2] + dv * er + 0.3 * along
+        feet = rim_feet(a, b, radius, segments)
+        expect = abs(du * dv) / math.hypot(du, dv) if want is None else want
+        assert feet.foot[0, k] == pytest.approx(expect, abs=1e-12), (du, dv)
+        if expect > 0:
+            corner = radius * er
+            mid = corner + 0.5 * (b[0, :, 3] - a[0, :, 3])
+            right = corner + (du * a[0, :, 2] if du > 0 else dv * er) + 0.15 * along
+            assert feet.apex[0, k] == pytest.approx(right, abs=1e-12)
+            # the right angle lies `foot` from the edge's path (the hypotenuse), off it
+            hyp = (feet.b[0, k] - feet.a[0, k]) / np.linalg.norm(feet.b[0, k] - feet.a[0, k])
+            off = feet.apex[0, k] - mid
+            assert np.linalg.norm(off - (off @ hyp) * hyp) == pytest.approx(expect, rel=1e-9)
+            deep = feet.beyond(np.array([0]), np.array([k]), 0.5 * expect)
+            assert deep[0, 0] == pytest.approx(feet.apex[0, k])
+
+
+def _advancing_turn(library, x0: float, x1: float, sub: int = 1):
+    """The D25 turned 60° about the work axis 1.713° / ``sub`` per pose at Z -27.5 (its rim's
+    foot on the floor z = -40), 0.8 mm off the contact point, its face advancing from
+    X = x0 to x1 as it turns: a :class:`vmach.stock.sweeps.Motion`."""
+    from tests.stock.test_fans import _turn_motion
+
+    c = np.arange(0.0, 60.0 - 1e-9, 1.713 / sub)
+    return _turn_motion(library.lookup("GLOD D25"), np.linspace(x0, x1, len(c)), 0.8, -27.5, c)
+
+
+def _flank_foot(stock, z):
+    from tests.stock.test_fans import inward
+
+    phis = np.radians(np.linspace(10.0, 50.0, 81))
+    return np.array([40.0 - inward(stock.solid, p, z) for p in phis])
+
+
+def test_placed_steps_are_parted_against_the_feet_their_rim_leaves(library):
+    """The D25's face advancing 0.3 mm over a 60° turn while it passes 0.8 mm off the
+    contact point — as the polygon program's last turn does where its saw-tooth Y reverses —
+    leaves between two placed poses a foot at the flank's foot, where the rim draws back from
+    the material as the face advances into it (0.011 mm against a dense cut, 8 poses per
+    step). Told what the true tools sweep (``others``), the stock parts those steps until the
+    feet are within the side-cusp tolerance; without, it does not."""
+    from vmach.stock.simulate import _between
+    from vmach.stock.sweeps import Sweeps
+
+    tool = library.lookup("GLOD D25")
+
+    def cut(m, others):
+        stock = Stock.from_spec("cylinder:d=60,l=60", fans=False, cusp=0.0035, chord=0.004, arcs=True)
+        stock.cut(tool, m.tips, m.axes, _between(m.q, m.fk), others)
+        return stock
+
+    m = _advancing_turn(library, 26.3, 26.0)
+    feet, plain = cut(m, Sweeps([m]).others(0)), cut(m, None)
+    dense = cut(_advancing_turn(library, 26.3, 26.0, 8), None)
+    assert feet.stats.foot_steps == len(m.tips) - 1 and plain.stats.foot_steps == 0
+    assert feet.stats.cusp_poses > plain.stats.cusp_poses
+    for z in (-39.995, -39.99, -39.98, -39.97):
+        truth = _flank_foot(dense, z)
+        assert (_flank_foot(feet, z) - truth).max() <= 0.0035 + 2e-4, z
+    assert (_flank_foot(plain, -39.995) - _flank_foot(dense, -39.995)).max() > 0.008
+
+
+def test_feet_another_pass_cuts_again_need_no_poses(library):
+    """The same advancing turn followed by a finishing turn 0.1 mm deeper at constant X
+    (from 5° before to 5° after it): its true tool passes through every foot the first one
+    leaves, at its own placed poses, so the first turn is not parted for them."""
+    from tests.stock.test_fans import _turn_motion
+    from vmach.stock.simulate import _between
+    from vmach.stock.sweeps import Sweeps
+
+    tool = library.lookup("GLOD D25")
+    first = _advancing_turn(library, 26.3, 26.0)
+    finish = _turn_motion(tool, 25.9, 0.8, -27.5, np.arange(-5.0, 65.0, 1.713))
+    sweeps = Sweeps([first, finish])
+    stock = Stock.from_spec("cylinder:d=60,l=60", fans=False, cusp=0.0035, chord=0.004, arcs=True)
+    stock.cut(tool, first.tips, first.axes, _between(first.q, first.fk), sweeps.others(0))
+    assert stock.stats.foot_steps == 0
+    alone = Stock.from_spec("cylinder:d=60,l=60", fans=False, cusp=0.0035, chord=0.004, arcs=True)
+    alone.cut(tool, first.tips, first.axes, _between(first.q, first.fk), Sweeps([first]).others(0))
+    assert alone.stats.foot_steps > 0

@@ -244,6 +244,9 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
     def inside(s: int):
         return None if between is None else between(s)
 
+    def shifted(s: int):
+        return others.shifted(s) if hasattr(others, "shifted") else others
+
     first = np.r_[0, np.cumsum(k)[:-1]]
     span = [(first[j], first[j] + k[j] + 1) for j in range(b - a)]
     cut_boxes = cylinder_boxes(tips, ax, 0.0, tool.cutting_length, tool.radius)
@@ -270,7 +273,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
 
     def release() -> None:
         if held[0] is not None:
-            stock.cut(tool, tips[held[0] : held[1]], ax[held[0] : held[1]], inside(held[0]), others)
+            stock.cut(tool, tips[held[0] : held[1]], ax[held[0] : held[1]], inside(held[0]), shifted(held[0]))
             held[:] = [None, None]
 
     for c0 in range(0, b - a, CHUNK):
@@ -343,7 +346,7 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
                              probes.get(("rapid", j)),
                              [(p, probes[(p.name, j)][0]) for p in parts if (p.name, j) in probes], res,
                              clearance)
-        stock.cut(tool, tips[s:e], ax[s:e], inside(s), others)
+        stock.cut(tool, tips[s:e], ax[s:e], inside(s), shifted(s))
     release()
 
 

@@ -25,7 +25,7 @@ import numpy as np
 
 from vmach.errors import InputError
 from vmach.output import atomic_writer, make_dir, writable_dir
-from vmach.stock import cusps, cutters, engine
+from vmach.stock import cusps, cutters, engine, feet
 from vmach.stock.batch import EMPTY_BOX, Piece
 from vmach.stock.clip import Shape, shape
 from vmach.stock.column import Column, plan_columns
@@ -61,7 +61,8 @@ class CutStats:
     helix's other turns; :func:`vmach.stock.fan.covered`); cusp_poses : placed poses added
     between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`), and
     cusp_fins : those cut as their fin only (:func:`vmach.stock.cusps.fin_widths`); inner_fins :
-    placed poses between two placed rotary steps cut as their fin (:meth:`Stock._inner_fins`); columns :
+    placed poses between two placed rotary steps cut as their fin (:meth:`Stock._inner_fins`);
+    foot_steps : steps parted against the feet of a flat face's rim (:mod:`vmach.stock.feet`); columns :
     column cutters (:mod:`vmach.stock.column`) and column_cells : the turns' cells they hold;
     column_overcut_mm : the deepest a column's face chain lies below one of its turns' own, or
     its hull bridges a floor beyond what the path cuts anyway (mm; also in fan_overcut_mm);
@@ -83,6 +84,7 @@ class CutStats:
     cusp_poses: int = 0
     cusp_fins: int = 0
     inner_fins: int = 0
+    foot_steps: int = 0
     columns: int = 0
     column_cells: int = 0
     axial_runs: int = 0
@@ -372,7 +374,7 @@ class Stock(CutterMaker):
         if self.trim and isinstance(tool, Tool):
             fins = self._inner_fins(tool, ts, fr, rotary, fan_runs, poses)
         if between is not None and self.trim and isinstance(tool, Tool):
-            more, at, half = self._cusp_poses(tool, ts, tips, fr, rotary, fan_runs, between)
+            more, at, half = self._cusp_poses(tool, ts, tips, fr, rotary, fan_runs, between, others)
             if len(more):
                 poses = np.r_[poses, len(fr) + np.arange(len(more))]
                 key = np.r_[key, at]
@@ -431,11 +433,13 @@ class Stock(CutterMaker):
         return runs, np.unique(np.r_[poses, placed]).astype(int)
 
     def _cusp_poses(self, tool: Tool, ts: ToolSolid, tips: np.ndarray, fr: np.ndarray, rotary: np.ndarray,
-                    fan_runs: np.ndarray, between) -> tuple[np.ndarray, np.ndarray]:
+                    fan_runs: np.ndarray, between, others=None) -> tuple[np.ndarray, np.ndarray]:
         """Placed poses to add inside the rotary steps (n-1,) bool that no fan cutter holds,
         where the tool's curved side would leave cusps over ``self.cusp`` between the
-        step's two poses (:mod:`vmach.stock.cusps`): frames (e, 3, 4) — turned as placed
-        poses are — their places along the path (e,) float (step + fraction) and the
+        step's two poses (:mod:`vmach.stock.cusps`) — or, for a flat-faced prism told what
+        the true tools sweep (``others``: :class:`vmach.stock.sweeps.Others`), where its
+        rim's feet would (:func:`vmach.stock.feet.parts`): frames (e, 3, 4) — turned as
+        placed poses are — their places along the path (e,) float (step + fraction) and the
         half-widths (e,) mm of the fins that cut them (:func:`vmach.stock.cusps.fin_widths`)."""
         none = np.zeros((0, 3, 4)), np.zeros(0), np.zeros(0)
         steps = _placed_steps(rotary, fan_runs)
@@ -448,6 +452,10 @@ class Stock(CutterMaker):
         if len(idx) == 0 or len(sd.points) == 0:
             return none
         parts = cusps.substeps(cusps.step_cusps(sd, fr[idx], fr[idx + 1], self._holds, self.cusp), self.cusp)
+        if others is not None and hasattr(others, "recut") and self._prism(ts) is not None:
+            more = feet.parts(tool, ts, fr, idx, self.cusp, self.chord, self._holds, others, between)
+            self.stats.foot_steps += int((more > 1).sum())
+            parts = np.maximum(parts, more)
         need = parts > 1
         if not need.any():
             return none

@@ -46,25 +46,42 @@ class Sweeps:
 
     def __init__(self, motions: list[Motion]):
         self.motions = list(motions)
+        # each path's tip travel (mm) from its first pose to each pose (n,)
+        self.travel = [np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(m.tips, axis=0), axis=1))]
+                       for m in self.motions]
 
-    def others(self, path: int):
-        """The callable ``(groups (g, k, 3), omega (3,)) -> (g,) bool`` of :meth:`holds_all`
-        for every path but ``path``."""
-        return lambda groups, omega: self.holds_all(groups, omega, skip=path)
+    def others(self, path: int) -> Others:
+        """What every path but ``path`` sweeps, as that path's cuts ask (:class:`Others`)."""
+        return Others(self, path)
 
-    def holds(self, points: np.ndarray, omega: np.ndarray, skip: int | None = None) -> np.ndarray:
+    def holds(self, points: np.ndarray, omega: np.ndarray, skip: int | None = None,
+              margin: np.ndarray | float = 0.0, own: tuple | None = None, spread: int = 0) -> np.ndarray:
         """(p,) bool: points (p, 3) inside the true tool of a path (but ``skip``) at the
-        moment its plane through the tool axis and ``omega`` (unit) passes them."""
+        moment its plane through the tool axis and ``omega`` (unit) passes them, by at least
+        ``margin`` (mm, scalar or (p,)) from its surface. ``own`` = (path, steps (p,) int,
+        gap mm, near): that path's steps count only where its tip has travelled more than
+        ``gap`` from the point's own step (the same pass is not a recut) — or, with ``near``,
+        only those within it, and no other path's. ``spread``: instead of the true tool at
+        the crossing, at the sampled poses ``spread`` on either side of it (what the path's
+        cutters hold whole: :func:`_inside_poses`)."""
         points = np.asarray(points, dtype=float).reshape(-1, 3)
         om = np.asarray(omega, dtype=float)
+        margin = np.broadcast_to(np.asarray(margin, dtype=float), (len(points),))
         out = np.zeros(len(points), bool)
         for window in WINDOWS:
             for j, m in enumerate(self.motions):
-                if j == skip or len(m.tips) < 2 or out.all():
+                if j == skip or len(m.tips) < 2 or out.all() or (own is not None and own[3] and j != own[0]):
                     continue
                 left = np.nonzero(~out)[0]
                 pi, i = _crossings(m, points[left], om, window)
-                out[left[pi[_inside(m, points[left], om, pi, i)]]] = True
+                if own is not None and j == own[0]:
+                    far = np.abs(self.travel[j][i] - self.travel[j][np.asarray(own[1])[left[pi]]]) > own[2]
+                    pi, i = pi[far != own[3]], i[far != own[3]]
+                if spread:
+                    inside = _inside_poses(m, points[left][pi], i, margin[left][pi], spread)
+                else:
+                    inside = _inside(m, points[left], om, pi, i, margin[left][pi])
+                out[left[pi[inside]]] = True
         return out
 
     def holds_all(self, groups: np.ndarray, omega: np.ndarray, skip: int | None = None) -> np.ndarray:
@@ -77,6 +94,35 @@ class Sweeps:
             rest = groups[idx, 1:]
             out[idx] = self.holds(rest.reshape(-1, 3), omega, skip).reshape(rest.shape[:2]).all(axis=1)
         return out
+
+
+class Others:
+    """What the true tools sweep, for the cuts of one path (``path``) of :class:`Sweeps`,
+    whose poses the stock is given from the path's pose ``offset`` on.
+
+    - called as ``(groups (g, k, 3), omega (3,)) -> (g,) bool``: groups every point of which
+      another path's tool sweeps (:meth:`Sweeps.holds_all`; fans' rim bands);
+    - :meth:`recut`: points another path, or this one beyond ``gap``, sweeps with a margin.
+    """
+
+    def __init__(self, sweeps: Sweeps, path: int, offset: int = 0):
+        self.sweeps, self.path, self.offset = sweeps, path, int(offset)
+
+    def __call__(self, groups: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        return self.sweeps.holds_all(groups, omega, skip=self.path)
+
+    def shifted(self, offset: int) -> Others:
+        """The same for a stretch of the path given from its pose ``offset`` on."""
+        return Others(self.sweeps, self.path, self.offset + int(offset))
+
+    def recut(self, points: np.ndarray, steps: np.ndarray, omega: np.ndarray, margin: np.ndarray,
+              gap: float, near: bool = False) -> np.ndarray:
+        """(p,) bool: points (p, 3) that some path's true tool sweeps at least ``margin`` (p,)
+        mm inside its surface — this path's only at steps whose tip has travelled more than
+        ``gap`` mm from the point's step (``steps`` (p,), poses as given). ``near``: instead,
+        points this path's own tool sweeps within ``gap`` of it (the pass that makes them)."""
+        own = (self.path, np.asarray(steps, dtype=int) + self.offset, gap, near)
+        return self.sweeps.holds(points, omega, margin=margin, own=own, spread=RECUT_SPREAD)
 
 
 #: half-widths (radians) of the windows of a path's steps, by the azimuth of their tips about
@@ -161,11 +207,13 @@ def _crossings(m: Motion, points: np.ndarray, om: np.ndarray,
     return np.concatenate(out_p), np.concatenate(out_i)
 
 
-def _inside(m: Motion, points: np.ndarray, om: np.ndarray, pi: np.ndarray, i: np.ndarray) -> np.ndarray:
+def _inside(m: Motion, points: np.ndarray, om: np.ndarray, pi: np.ndarray, i: np.ndarray,
+            margin: np.ndarray | float = 0.0) -> np.ndarray:
     """(c,) bool: for (point, step) pairs (:func:`_crossings`), whether the point lies inside
-    the true tool where the step carries the tool's plane across it: the machine axes
-    interpolated linearly at the fraction of the step where that plane's offset from the
-    point changes sign (linearly between the step's ends), and run through the kinematics."""
+    the true tool, by ``margin`` (mm, scalar or (c,)) at least, where the step carries the
+    tool's plane across it: the machine axes interpolated linearly at the fraction of the
+    step where that plane's offset from the point changes sign (linearly between the step's
+    ends), and run through the kinematics."""
     out = np.zeros(len(pi), bool)
     if len(pi) == 0:
         return out
@@ -180,5 +228,26 @@ def _inside(m: Motion, points: np.ndarray, om: np.ndarray, pi: np.ndarray, i: np
     local = p - np.asarray(pose.tip, dtype=float)
     z = np.einsum("ij,ij->i", local, axis)
     radial2 = np.einsum("ij,ij->i", local, local) - z * z
-    r = np.interp(z, m.zs, m.rs)
-    return (z >= 0.0) & (z <= m.zs[-1]) & (radial2 < (r - 1e-6) ** 2) & (r > 1e-6)
+    r = np.interp(z, m.zs, m.rs) - np.maximum(margin, 1e-6)
+    return (z >= margin) & (z <= m.zs[-1] - margin) & (radial2 < r * r) & (r > 0.0)
+
+
+
+#: sampled poses on either side of a crossing at which :meth:`Others.recut` looks for a point
+RECUT_SPREAD = 4
+
+
+def _inside_poses(m: Motion, points: np.ndarray, i: np.ndarray, margin: np.ndarray,
+                  spread: int) -> np.ndarray:
+    """(c,) bool: points (c, 3) inside the true tool of ``m``, by ``margin`` (c,), at one of
+    its sampled poses ``i - spread + 1`` to ``i + spread`` (c,) — the poses its cutters hold
+    whole (placed, or in a fan, a column or a translation hull; a pose cut as its fin has
+    its neighbours' fins hold the rest of it)."""
+    off = np.arange(-spread + 1, spread + 1)
+    j = np.clip(i[:, None] + off[None, :], 0, len(m.tips) - 1)                          # (c, k)
+    local = points[:, None, :] - m.tips[j]
+    z = np.einsum("cki,cki->ck", local, m.axes[j])
+    radial2 = np.einsum("cki,cki->ck", local, local) - z * z
+    mg = np.maximum(np.asarray(margin, dtype=float), 1e-6)[:, None]
+    r = np.interp(z, m.zs, m.rs) - mg
+    return ((z >= mg) & (z <= m.zs[-1] - mg) & (radial2 < r * r) & (r > 0.0)).any(axis=1)
