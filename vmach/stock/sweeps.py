@@ -49,6 +49,14 @@ class Sweeps:
         # each path's tip travel (mm) from its first pose to each pose (n,)
         self.travel = [np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(m.tips, axis=0), axis=1))]
                        for m in self.motions]
+        self._indexes: dict[tuple, _Index | None] = {}
+
+    def _index(self, j: int, om: np.ndarray) -> _Index | None:
+        """Path j's :class:`_Index` about ``om``, made once (a path cut in chunks asks often)."""
+        key = (j, *np.round(om, 12).tolist())
+        if key not in self._indexes:
+            self._indexes[key] = _index(self.motions[j], om)
+        return self._indexes[key]
 
     def others(self, path: int) -> Others:
         """What every path but ``path`` sweeps, as that path's cuts ask (:class:`Others`)."""
@@ -73,14 +81,16 @@ class Sweeps:
                 if j == skip or len(m.tips) < 2 or out.all() or (own is not None and own[3] and j != own[0]):
                     continue
                 left = np.nonzero(~out)[0]
-                pi, i = _crossings(m, points[left], om, window)
+                ix = self._index(j, om)
+                pi, i = _crossings(m, points[left], om, window, ix)
                 if own is not None and j == own[0]:
                     far = np.abs(self.travel[j][i] - self.travel[j][np.asarray(own[1])[left[pi]]]) > own[2]
                     pi, i = pi[far != own[3]], i[far != own[3]]
                 if spread:
                     inside = _inside_poses(m, points[left][pi], i, margin[left][pi], spread)
                 else:
-                    inside = _inside(m, points[left], om, pi, i, margin[left][pi])
+                    t = None if ix is None else ix.t
+                    inside = _inside(m, points[left], om, pi, i, margin[left][pi], t)
                 out[left[pi[inside]]] = True
         return out
 
@@ -145,13 +155,26 @@ def _planes(m: Motion, om: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return t, ok
 
 
-def _crossings(m: Motion, points: np.ndarray, om: np.ndarray,
-               window: float = WINDOWS[-1]) -> tuple[np.ndarray, np.ndarray]:
-    """(point, step) index pairs where a step of ``m`` (pose i to i+1) carries the tool's
-    plane through its axis and ``omega`` across the point, the tool within reach of it:
-    among the steps whose tips' azimuth about omega (through the origin: the work frame's
-    rotary axes) lies within ``window`` (radians) of the point's and whose tool reaches the point's height
-    along omega (steps binned by that height, bins half the tool's extent along omega)."""
+@dataclass(frozen=True)
+class _Index:
+    """A path's steps for one omega, as :func:`_crossings` searches them: each pose's plane
+    normal ``t`` (n, 3) (:func:`_planes`), the frame ``e1``, ``e2`` (3,) across omega, the
+    steps with a plane at both ends ``order`` sorted by ``key`` (height bin · 8 + their
+    tips' mid azimuth), the bins' ``size`` mm and ``span``, and ``turn``: half the largest
+    step's turn about omega (radians)."""
+
+    t: np.ndarray
+    e1: np.ndarray
+    e2: np.ndarray
+    key: np.ndarray
+    order: np.ndarray
+    size: float
+    span: int
+    turn: float
+
+
+def _index(m: Motion, om: np.ndarray) -> _Index | None:
+    """The :class:`_Index` of ``m`` about ``om`` (None: no step has a plane)."""
     t, ok = _planes(m, om)
     e1 = np.cross(om, [1.0, 0.0, 0.0] if abs(om[0]) < 0.9 else [0.0, 1.0, 0.0])
     e1 /= np.linalg.norm(e1)
@@ -160,11 +183,9 @@ def _crossings(m: Motion, points: np.ndarray, om: np.ndarray,
     d = np.angle(np.exp(1j * (phi[1:] - phi[:-1])))                  # each step's turn
     mid = np.mod(phi[:-1] + 0.5 * d, 2.0 * np.pi)
     good = np.nonzero(ok[:-1] & ok[1:])[0]
-    none = np.zeros(0, int), np.zeros(0, int)
-    if len(good) == 0 or len(points) == 0:
-        return none
+    if len(good) == 0:
+        return None
     length, radius = float(m.zs[-1]), float(m.rs.max())
-    reach = length + radius
     # the tool's extent along omega about its tip, and the steps binned by their tips' height
     h = m.tips @ om
     ext = radius + length * float(np.abs(m.axes @ om).max())
@@ -173,8 +194,24 @@ def _crossings(m: Motion, points: np.ndarray, om: np.ndarray,
     span = int(np.ceil((ext + 0.5 * float(np.abs(h[1:] - h[:-1]).max())) / size)) + 1
     key = hb * 8 + mid[good]                                          # sorted by (bin, azimuth)
     by = np.argsort(key)
-    key, order = key[by], good[by]
-    wide = window + 0.5 * float(np.abs(d[good]).max())
+    return _Index(t, e1, e2, key[by], good[by], size, span, 0.5 * float(np.abs(d[good]).max()))
+
+
+def _crossings(m: Motion, points: np.ndarray, om: np.ndarray, window: float = WINDOWS[-1],
+               ix: _Index | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(point, step) index pairs where a step of ``m`` (pose i to i+1) carries the tool's
+    plane through its axis and ``omega`` across the point, the tool within reach of it:
+    among the steps whose tips' azimuth about omega (through the origin: the work frame's
+    rotary axes) lies within ``window`` (radians) of the point's and whose tool reaches the
+    point's height along omega (steps binned by that height, bins half the tool's extent
+    along omega). ``ix``: ``m``'s :class:`_Index` about ``om``, if made already."""
+    none = np.zeros(0, int), np.zeros(0, int)
+    ix = _index(m, om) if ix is None else ix
+    if ix is None or len(points) == 0:
+        return none
+    t, e1, e2, key, order, size, span = ix.t, ix.e1, ix.e2, ix.key, ix.order, ix.size, ix.span
+    reach = float(m.zs[-1]) + float(m.rs.max())
+    wide = window + ix.turn
     pphi = np.mod(np.arctan2(points @ e2, points @ e1), 2.0 * np.pi)
     pb = np.floor((points @ om) / size).astype(np.int64)
     out_p, out_i = [], []
@@ -208,7 +245,7 @@ def _crossings(m: Motion, points: np.ndarray, om: np.ndarray,
 
 
 def _inside(m: Motion, points: np.ndarray, om: np.ndarray, pi: np.ndarray, i: np.ndarray,
-            margin: np.ndarray | float = 0.0) -> np.ndarray:
+            margin: np.ndarray | float = 0.0, t: np.ndarray | None = None) -> np.ndarray:
     """(c,) bool: for (point, step) pairs (:func:`_crossings`), whether the point lies inside
     the true tool, by ``margin`` (mm, scalar or (c,)) at least, where the step carries the
     tool's plane across it: the machine axes interpolated linearly at the fraction of the
@@ -217,7 +254,8 @@ def _inside(m: Motion, points: np.ndarray, om: np.ndarray, pi: np.ndarray, i: np
     out = np.zeros(len(pi), bool)
     if len(pi) == 0:
         return out
-    t, _ = _planes(m, om)
+    if t is None:
+        t, _ = _planes(m, om)
     p = points[pi]
     f0 = np.einsum("ij,ij->i", p - m.tips[i], t[i])
     f1 = np.einsum("ij,ij->i", p - m.tips[i + 1], t[i + 1])
