@@ -421,15 +421,21 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
     cutters, _ = rapid if rapid is not None else stock.cutters(tool, tips, ax)
     if rapid is not None:
         cut = engine.union(cutters)
-        chip, after = engine.split(local, [cut])         # what the rapid removes, and the rest
-        removed = engine.volume(chip)
+        after = engine.subtract(local, [cut])            # the rest; what the rapid removes:
+        removed = engine.volume(local) - engine.volume(after)
         if removed > tol.removal_volume:
-            c = np.round(engine.centroid(chip), 3).tolist()
+            src = table.source(row)
+            data = {"volume_mm3": round(removed, 4)}
+            where = ""
+            # where: for a block's first rapid into the stock (the report gives the first per
+            # block; the chip's centroid costs a boolean of its own)
+            if not any(f.kind == "rapid_into_stock" and f.source == src for f in res.findings):
+                c = np.round(engine.centroid(engine.intersect(local, cut)), 3).tolist()
+                data["at_mm"] = c
+                where = f" around ({c[0]:.2f}, {c[1]:.2f}, {c[2]:.2f}) mm (work frame)"
             res.findings.append(Finding(
-                "rapid_into_stock", "error",
-                f"rapid move removes {removed:.3f} mm³ of material around "
-                f"({c[0]:.2f}, {c[1]:.2f}, {c[2]:.2f}) mm (work frame)",
-                table.source(row), row, {"volume_mm3": round(removed, 4), "at_mm": c}))
+                "rapid_into_stock", "error", f"rapid move removes {removed:.3f} mm³ of material{where}",
+                src, row, data))
         elif clearance > 0 and cutters and not ((row == 0 or table.kind[row - 1] != TRAVERSE)
                                                 and retracts(tool, tips, ax)):
             gap = engine.min_gap(local, cut, clearance)
