@@ -111,11 +111,10 @@ class Accuracy:
         return {"chord": self.tool_chord, "cusp": self.sweep_cusp, "arcs": self.rim_arcs}
 
 
-#: ``standard``: the defaults (7–11 s for the polygon-shaft program, within +0.015 / −0.0093 mm
-#: of a converged simulation). ``fine``: tools to 0.004 mm, side cusps to 0.0035 mm, and flat or
-#: face mills round about the directions their poses are made exact toward — within +0.0060 /
-#: −0.0035 mm but for two points of the flank/shoulder corner line (+0.0060; 0.0041 elsewhere),
-#: about 1.7 times the time (docs/stock.md).
+#: ``standard``: the defaults (6–8.5 s for the polygon-shaft program, within +0.0106 / −0.0093 mm
+#: of a converged simulation). ``fine``: tools to 0.004 mm, side cusps (and a flat face's rim
+#: feet) to 0.0035 mm, and flat or face mills round about the directions their poses are made
+#: exact toward — within +0.0048 / −0.0035 mm, about 1.4 times the time (docs/stock.md).
 ACCURACY = {
     "standard": Accuracy(tool_chord=tol.tool_chord, sweep_cusp=tol.sweep_cusp),
     "fine": Accuracy(tool_chord=0.004, sweep_cusp=0.0035, rim_arcs=True),
