@@ -578,6 +578,30 @@ def test_what_another_paths_true_tool_sweeps(library):
     assert not sweeps.holds(pts, z, skip=0).any()
 
 
+def test_recut_asks_for_a_margin_and_keeps_a_paths_own_pass_apart(library):
+    """Others.recut: a point 0.01 mm above the D25's floor (z = -40) is held by another
+    path's sampled poses with no margin, not with 0.02 mm; the same turn given as the path's
+    own is no recut within ``gap`` of the point's step (its own pass) — ``near`` asks that
+    pass alone — and is one beyond it (a second pass, one full turn later)."""
+    from vmach.stock.sweeps import Sweeps
+
+    tool = library.lookup("GLOD D25")
+    c = np.arange(0.0, 61.0, 1.713)
+    turn = _turn_motion(tool, 25.0, 0.0, -27.5, c)
+    z = np.array([0.0, 0.0, 1.0])
+    a = np.radians(c[10])                                   # under a sampled pose's axis
+    point = np.array([[26.0 * np.cos(a), 26.0 * np.sin(a), -39.99]])
+    other = Sweeps([_turn_motion(tool, 30.0, 0.0, -60.0, c), turn]).others(0)
+    assert other.recut(point, [10], z, np.array([0.0]), 50.0).tolist() == [True]
+    assert other.recut(point, [10], z, np.array([0.02]), 50.0).tolist() == [False]
+    own = Sweeps([turn]).others(0)
+    assert own.recut(point, [10], z, np.array([0.0]), 50.0).tolist() == [False]
+    assert own.recut(point, [10], z, np.array([0.0]), 50.0, near=True).tolist() == [True]
+    twice = np.r_[c, c + 360.0]
+    again = Sweeps([_turn_motion(tool, 25.0, 0.0, -27.5, twice)]).others(0)
+    assert again.recut(point, [10], z, np.array([0.0]), 50.0).tolist() == [True]
+
+
 def test_a_crossing_off_the_tips_azimuth_is_found_in_the_wide_window(library):
     """The D25 8 mm off centre (Y = 8): its plane through the axis and the work Z passes a
     point on its axis at r = 30 when the tip's azimuth is 2.2° past the point's — beyond the

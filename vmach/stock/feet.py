@@ -46,15 +46,6 @@ class Feet:
     b: np.ndarray
     apex: np.ndarray
 
-    def beyond(self, steps: np.ndarray, samples: np.ndarray, depth: float) -> np.ndarray:
-        """(c, 3, 3): for feet (steps, samples (c,)) deeper than ``depth`` mm, the triangle
-        of each that lies more than ``depth`` from the surface (the apex and the points of
-        its two legs at that depth)."""
-        apex = self.apex[steps, samples]
-        keep = 1.0 - depth / self.foot[steps, samples][:, None]
-        return np.stack([apex, apex + keep * (self.a[steps, samples] - apex),
-                         apex + keep * (self.b[steps, samples] - apex)], axis=1)
-
 
 def rim_feet(frames_a: np.ndarray, frames_b: np.ndarray, radius: float, segments: int) -> Feet:
     """Feet of a flat face's rim (``radius`` mm; the poses' polygons of ``segments`` turned
