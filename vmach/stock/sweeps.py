@@ -14,7 +14,14 @@ through its axis and a rotation axis ω passes the point (found between two samp
 machine axes interpolated linearly as the control does, and run through the kinematics). A
 point at height u above the side's extreme line lies inside the tool there if it lies within
 ``sqrt(2Ru)`` of that plane: so points inside are found to within what the sampling of that
-moment misses, never wrongly. All lengths mm.
+moment misses, never wrongly.
+
+The other way round, material a path's cutters *leave* (the feet of a flat face's rim,
+:mod:`vmach.stock.feet`) is gone only if another path's cutters take it — not merely its true
+tool, whose sampled poses may leave the same foot at the same place. :meth:`Others.recut`
+therefore asks the sampled poses around each crossing (what every cutter holds whole), and
+this path's own poses too, on its other passes (beyond ``gap`` mm of tip travel). All
+lengths mm.
 """
 
 from __future__ import annotations
