@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vmach.stock import cusps
+from vmach.stock.sweeps import in_tool
 from vmach.tooling.model import Tool
 from vmach.tooling.solid import ToolSolid, lateral_angle
 
@@ -67,7 +68,7 @@ def rim_feet(frames_a: np.ndarray, frames_b: np.ndarray, radius: float, segments
     d = np.einsum("sji,skj->ski", ra, wb - wa)                   # each sample's travel, a's frame
     du, dv = d[..., 2], np.einsum("ski,ki->sk", d, er)
     size = np.hypot(du, dv)
-    foot = np.where((du * dv > 0.0) & (size > 0.0), np.abs(du * dv) / np.where(size > 0, size, 1.0), 0.0)
+    foot = np.where(du * dv > 0.0, np.abs(du * dv) / np.where(size > 0, size, 1.0), 0.0)   # (size > 0 there)
     # the triangle in the section across the edge midway: the corners mid ∓ (du·axis +
     # dv·e_r)/2, the right angle where the later face meets the earlier rim (du > 0) or the
     # earlier face the later rim (du < 0)
@@ -137,9 +138,4 @@ def _step_sweeps(tool: Tool, points: np.ndarray, steps: np.ndarray, between) -> 
     t = np.asarray(t, dtype=float).reshape(len(uniq), CHECKS - 1, 3)[inv]              # (p, k, 3)
     ax = np.asarray(ax, dtype=float).reshape(len(uniq), CHECKS - 1, 3)[inv]
     ax = ax / np.linalg.norm(ax, axis=2, keepdims=True)
-    local = points[:, None, :] - t
-    z = np.einsum("pki,pki->pk", local, ax)
-    radial2 = np.einsum("pki,pki->pk", local, local) - z * z
-    zs, rs = cusps.outline(tool)
-    r = np.interp(z, zs, rs)
-    return ((z >= 0.0) & (z <= zs[-1]) & (radial2 < r * r)).any(axis=1)
+    return in_tool(points[:, None, :] - t, ax, *cusps.outline(tool)).any(axis=1)

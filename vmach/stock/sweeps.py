@@ -270,12 +270,7 @@ def _inside(m: Motion, points: np.ndarray, om: np.ndarray, pi: np.ndarray, i: np
     pose = m.fk(m.q[i] + (m.q[i + 1] - m.q[i]) * s[:, None])
     axis = np.asarray(pose.axis, dtype=float)
     axis = axis / np.linalg.norm(axis, axis=1, keepdims=True)
-    local = p - np.asarray(pose.tip, dtype=float)
-    z = np.einsum("ij,ij->i", local, axis)
-    radial2 = np.einsum("ij,ij->i", local, local) - z * z
-    r = np.interp(z, m.zs, m.rs) - np.maximum(margin, 1e-6)
-    return (z >= margin) & (z <= m.zs[-1] - margin) & (radial2 < r * r) & (r > 0.0)
-
+    return in_tool(p - np.asarray(pose.tip, dtype=float), axis, m.zs, m.rs, margin, np.maximum(margin, 1e-6))
 
 
 #: sampled poses on either side of a crossing at which :meth:`Others.recut` looks for a point
@@ -290,9 +285,16 @@ def _inside_poses(m: Motion, points: np.ndarray, i: np.ndarray, margin: np.ndarr
     its neighbours' fins hold the rest of it)."""
     off = np.arange(-spread + 1, spread + 1)
     j = np.clip(i[:, None] + off[None, :], 0, len(m.tips) - 1)                          # (c, k)
-    local = points[:, None, :] - m.tips[j]
-    z = np.einsum("cki,cki->ck", local, m.axes[j])
-    radial2 = np.einsum("cki,cki->ck", local, local) - z * z
     mg = np.maximum(np.asarray(margin, dtype=float), 1e-6)[:, None]
-    r = np.interp(z, m.zs, m.rs) - mg
-    return ((z >= mg) & (z <= m.zs[-1] - mg) & (radial2 < r * r) & (r > 0.0)).any(axis=1)
+    return in_tool(points[:, None, :] - m.tips[j], m.axes[j], m.zs, m.rs, mg, mg).any(axis=1)
+
+
+def in_tool(local: np.ndarray, axis: np.ndarray, zs: np.ndarray, rs: np.ndarray,
+            along: np.ndarray | float = 0.0, across: np.ndarray | float = 0.0) -> np.ndarray:
+    """(...) bool: points at ``local`` (..., 3) from a tool's tip inside the true tool of unit
+    ``axis`` (..., 3) and radius ``rs`` at heights ``zs`` (:func:`vmach.stock.cusps.outline`),
+    by ``along`` mm from its ends and ``across`` mm from its side (scalars or broadcasting)."""
+    z = np.einsum("...i,...i->...", local, axis)
+    radial2 = np.einsum("...i,...i->...", local, local) - z * z
+    r = np.interp(z, zs, rs) - across
+    return (z >= along) & (z <= zs[-1] - along) & (radial2 < r * r) & (r > 0.0)
