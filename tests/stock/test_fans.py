@@ -680,3 +680,19 @@ def test_a_fans_end_poses_are_turned_for_its_own_steps(library, sense, phase):
     phis = np.radians(np.linspace(lo - 15.0, hi + 15.0, 300))
     floor = floor_hits(stock.solid, phis, np.array([26.5, 27.5, 28.5, 29.5]), top=-30.0)
     assert np.nanmin(floor) >= -40.0 - 1e-6
+
+
+def test_rotation_axes_are_grouped_by_line_whatever_their_sign_or_length():
+    """sweeps.by_axis: the fans' rim bands and the feet ask the other paths about one axis per
+    line — ω and −ω (a C axis turning either way), of any length, to 1e-9 — and leave out the
+    rows without one."""
+    from vmach.stock.sweeps import by_axis
+
+    om = np.array([[0.0, 0.0, 2.0], [0.0, 0.0, -1.0], [0.0, 1e-12, 1.0], [1.0, 0.0, 0.0],
+                   [0.0, 0.6, 0.8], [0.0, 0.0, 0.0], [-3.0, 0.0, 0.0]])
+    ok = np.linalg.norm(om, axis=1) > 1e-9
+    groups = {tuple(np.round(u, 12)): sorted(g.tolist()) for u, g in by_axis(om, ok)}
+    assert groups == {(0.0, 0.0, 1.0): [0, 1, 2], (1.0, 0.0, 0.0): [3, 6], (0.0, 0.6, 0.8): [4]}
+    for u, _ in by_axis(om, ok):
+        assert np.linalg.norm(u) == pytest.approx(1.0, abs=1e-15)
+    assert by_axis(om, np.zeros(len(om), bool)) == []

@@ -250,13 +250,23 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
     return 1.25 * out + FIN_LEAST
 
 
+_OUTLINES: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+
+
 def outline(tool: Tool) -> tuple[np.ndarray, np.ndarray]:
     """The true radius of ``tool`` along its axis: heights (k,) and radii (k,) mm, increasing
     heights, for ``np.interp`` over [0, the cutting length] (the largest radius where the
-    profile steps at one height)."""
-    prof = tool.profile(tol.tool_chord)[:-1]                   # the closing point on the axis
-    zs = np.unique(prof[:, 0])
-    return zs, np.array([prof[prof[:, 0] == z, 1].max() for z in zs])
+    profile steps at one height). Made once per tool shape (read-only arrays): a path cut in
+    chunks asks for every chunk."""
+    key = (tool.geometry_key(), tol.tool_chord)
+    if key not in _OUTLINES:
+        prof = tool.profile(tol.tool_chord)[:-1]               # the closing point on the axis
+        zs = np.unique(prof[:, 0])
+        rs = np.array([prof[prof[:, 0] == z, 1].max() for z in zs])
+        zs.flags.writeable = False
+        rs.flags.writeable = False
+        _OUTLINES[key] = (zs, rs)
+    return _OUTLINES[key]
 
 
 def face_radius(tool: Tool) -> float:
@@ -317,7 +327,7 @@ def fins_cover(tool: Tool, frames: np.ndarray, half: np.ndarray, which: np.ndarr
                 break
             if np.any(np.linalg.norm(tip[j] - tip[i], axis=1) > reach):
                 break
-            local = np.einsum("mi,jik->jmk", p, rot[j]) - np.einsum("ji,jik->jk", tip[j], rot[j])[:, None]
+            local = (p - tip[j][:, None]) @ rot[j]                      # (j, m, 3), tool frames
             z = local[..., 2]
             inside = ((z >= -slack) & (z <= length + slack)
                       & (np.hypot(local[..., 0], local[..., 1]) <= np.interp(z, zs, rs) + slack)

@@ -64,6 +64,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from vmach.stock.halfplanes import face_lines, polygon
+from vmach.stock.sweeps import by_axis
 from vmach.tol import tol
 
 #: M's face planes are moved this far outward (mm): the cutter is ε smaller than H \ M, so the
@@ -411,8 +412,7 @@ def _swept_by_others(tips: np.ndarray, axes: np.ndarray, which: np.ndarray, om: 
     flat = pts.reshape(len(which), -1, 3)
     flat = np.concatenate([flat[:, mid : mid + 1], np.delete(flat, mid, axis=1)], axis=1)
     out = np.zeros(len(which), bool)
-    for o in np.unique(np.round(om, 9), axis=0):                                      # by omega
-        grp = np.nonzero(np.all(np.abs(om - o) <= 1e-9, axis=1))[0]
+    for o, grp in by_axis(om):
         out[grp] = others(flat[grp], o)
     return out
 

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vmach.stock import cusps
-from vmach.stock.sweeps import in_tool
+from vmach.stock.sweeps import by_axis, in_tool
 from vmach.tooling.model import Tool
 from vmach.tooling.solid import ToolSolid, lateral_angle
 
@@ -108,18 +108,11 @@ def parts(tool: Tool, ts: ToolSolid, fr: np.ndarray, idx: np.ndarray, cusp: floa
         return out
     apex = feet.apex[step, sample]
     # the rotation axis of each step (its tool axis turns about it): the axis the other
-    # passes' crossings are looked for about (sign-free, rounded to group them)
+    # passes' crossings are looked for about
     om = np.cross(fr[idx[step], :, 2], fr[idx[step] + 1, :, 2])
-    size = np.linalg.norm(om, axis=1)
-    ok = size > 1e-9
-    om[ok] /= size[ok, None]
-    om *= np.where(om[np.arange(len(om)), np.argmax(np.abs(om), axis=1)] < 0, -1.0, 1.0)[:, None]
-    om = np.round(om, 6)
     gap = 2.0 * (ts.length + ts.radius)
     taken = np.zeros(len(step), bool)
-    for o in np.unique(om[ok], axis=0):
-        grp = np.nonzero(ok & np.all(om == o, axis=1))[0]
-        unit = o / np.linalg.norm(o)
+    for unit, grp in by_axis(om, np.linalg.norm(om, axis=1) > 1e-9):
         # held by this pass's own poses around the step (its curved rim), or another pass's
         taken[grp] = others.recut(apex[grp], idx[step[grp]], unit, chord, gap, near=True)
         rest = grp[~taken[grp]]

@@ -152,6 +152,23 @@ class Others:
 WINDOWS = (np.radians(1.0), np.radians(4.0))
 
 
+def by_axis(om: np.ndarray, ok: np.ndarray | None = None) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Rows of ``om`` (k, 3) grouped by the line they lie along: [(unit axis (3,), indices
+    (g,)), ...] — sign-free (a crossing about ω is one about −ω) and to 1e-9 of a unit
+    vector, so that the poses of one rotation ask about one axis (and :meth:`Sweeps._index`
+    indexes each path once for it). ``ok`` (k,) bool: the rows to group (the others have no
+    axis: a step that does not turn)."""
+    om = np.asarray(om, dtype=float).reshape(-1, 3)
+    rows = np.arange(len(om)) if ok is None else np.nonzero(ok)[0]
+    if len(rows) == 0:
+        return []
+    unit = om[rows] / np.linalg.norm(om[rows], axis=1, keepdims=True)
+    unit *= np.where(unit[np.arange(len(unit)), np.argmax(np.abs(unit), axis=1)] < 0, -1.0, 1.0)[:, None]
+    key, inv = np.unique(np.round(unit, 9), axis=0, return_inverse=True)
+    inv = inv.reshape(-1)
+    return [(k / np.linalg.norm(k), rows[inv == g]) for g, k in enumerate(key)]
+
+
 def _planes(m: Motion, om: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The unit normals (n, 3) of each pose's plane through its axis and omega, and which
     poses have one (axis not along omega)."""
