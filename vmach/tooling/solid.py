@@ -375,4 +375,5 @@ def spun(frames_: np.ndarray, side: np.ndarray, segments: int) -> np.ndarray:
 def place(points: np.ndarray, frames_: np.ndarray) -> np.ndarray:
     """Points (k, 3) of the tool frame placed by frames (n, 3, 4): returns (n, k, 3).
     (A batched product: numpy's einsum, which has no BLAS path for it, took 25× as long.)"""
-    return np.matmul(frames_[:, :, :3], np.asarray(points, dtype=float).T).transpose(0, 2, 1) + frames_[:, None, :, 3]
+    turned = np.matmul(frames_[:, :, :3], np.asarray(points, dtype=float).T).transpose(0, 2, 1)
+    return turned + frames_[:, None, :, 3]
