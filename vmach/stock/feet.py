@@ -27,7 +27,7 @@ import numpy as np
 from vmach.stock import cusps
 from vmach.stock.sweeps import by_axis, in_tool
 from vmach.tooling.model import Tool
-from vmach.tooling.solid import ToolSolid, lateral_angle
+from vmach.tooling.solid import ToolSolid, lateral_angle, place
 
 FOOT_BAND = 0.05   # mm: the rim's arc about each lateral whose feet are estimated
 FOOT_SAMPLES = 9   # rim samples per lateral
@@ -61,10 +61,8 @@ def rim_feet(frames_a: np.ndarray, frames_b: np.ndarray, radius: float, segments
     phi = np.concatenate([alpha + fan, alpha + math.pi + fan])
     er = np.column_stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)])           # (k, 3)
     pts = radius * er
-    ra, ta = frames_a[:, :, :3], frames_a[:, :, 3]
-    rb, tb = frames_b[:, :, :3], frames_b[:, :, 3]
-    wa = np.einsum("sij,kj->ski", ra, pts) + ta[:, None]
-    wb = np.einsum("sij,kj->ski", rb, pts) + tb[:, None]
+    ra = frames_a[:, :, :3]
+    wa, wb = place(pts, frames_a), place(pts, frames_b)                   # (s, k, 3) each
     d = np.einsum("sji,skj->ski", ra, wb - wa)                   # each sample's travel, a's frame
     du, dv = d[..., 2], np.einsum("ski,ki->sk", d, er)
     size = np.hypot(du, dv)

@@ -238,14 +238,14 @@ def _cut_checked(stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose,
     exactly; the chunk is then cut from the stock as one path. ``between(offset)``: the poses
     inside sampled steps for :meth:`Stock.cut` given the samples from ``offset`` on
     (:func:`_between` of the path's machine axes); ``others``: what the other paths' true
-    tools sweep (:meth:`vmach.stock.sweeps.Sweeps.others`), for the fans of every cut."""
+    tools sweep (:class:`vmach.stock.sweeps.Others`), for the fans and feet of every cut."""
     tips, ax = pose.tip, pose.axis
 
     def inside(s: int):
         return None if between is None else between(s)
 
     def shifted(s: int):
-        return others.shifted(s) if hasattr(others, "shifted") else others
+        return None if others is None else others.shifted(s)
 
     first = np.r_[0, np.cumsum(k)[:-1]]
     span = [(first[j], first[j] + k[j] + 1) for j in range(b - a)]

@@ -283,7 +283,9 @@ class Stock(CutterMaker):
         others : callable ``(groups (g, k, 3), omega (3,)) -> (g,) bool``: which groups of
             points the true tools of the program's other paths sweep whole
             (:meth:`vmach.stock.sweeps.Sweeps.others`); a fan may take a flat face's rim band
-            there (:func:`vmach.stock.fan.plan_fans`).
+            there (:func:`vmach.stock.fan.plan_fans`). With a ``recut`` method too (an
+            :class:`vmach.stock.sweeps.Others`), placed steps are also parted against the feet
+            of a flat face's rim that no other pass cuts again (:func:`vmach.stock.feet.parts`).
         """
         n = 0
         for ts, jobs in self._sweep(tool, tips, axes, between, others):
