@@ -6,7 +6,9 @@ work, and a naive manifold3d baseline.
 Program: the published listing split as issue 2 describes (../shared/reference) when present,
 else the project's own fixtures/polygon_shaft/POLY50.MPF. Each case runs in a child process so
 that its peak memory (ru_maxrss) is its own. Printed per case: moves, cutters, sweep (cutters
-and kinematics) and boolean seconds, total wall time, peak memory, and for the program the
+and kinematics) and boolean seconds (with the stock's worker process, which takes the batches
+once 512 cutters were queued, its boolean time, overlapping the sweep, and how long the
+main process waited for it), total wall time, peak memory (the worker's separately), and for the program the
 P3G-50 deviation between z = -35 and -5 with the sampling bound.
 
 Cases
@@ -126,8 +128,9 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             sim = simulate(table, model, lib, stock, checks=kind == "program-checked")
             part = stock.solid
             engine.check(part)
+            stock.close()
             out.update(cutters=stock.stats.cutters, sweep=stock.stats.sweep_seconds + sim.kinematics_seconds,
-                       boolean=stock.stats.boolean_seconds, bound=sim.bound_mm,
+                       boolean=stock.stats.boolean_seconds, wait=stock.stats.wait_seconds, bound=sim.bound_mm,
                        fans=stock.stats.fans, fan_overcut=stock.stats.fan_overcut_mm,
                        fan_covered=stock.stats.fan_covered_mm, cusp_poses=stock.stats.cusp_poses,
                        columns=stock.stats.columns, column_cells=stock.stats.column_cells,
@@ -159,9 +162,11 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             stock = Stock.from_spec("cylinder:d=60,l=100", **(BEFORE if kind == "helix-before" else {}))
             stock.cut(tool, tips, axes)
             engine.check(stock.solid)
+            stock.close()
             out.update(cutters=stock.stats.cutters, sweep=stock.stats.sweep_seconds,
-                       boolean=stock.stats.boolean_seconds, fans=stock.stats.fans,
-                       fan_overcut=stock.stats.fan_overcut_mm, fan_covered=stock.stats.fan_covered_mm,
+                       boolean=stock.stats.boolean_seconds, wait=stock.stats.wait_seconds,
+                       fans=stock.stats.fans, fan_overcut=stock.stats.fan_overcut_mm,
+                       fan_covered=stock.stats.fan_covered_mm,
                        columns=stock.stats.columns, column_cells=stock.stats.column_cells)
         else:
             t0 = time.perf_counter()
@@ -172,6 +177,8 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             out.update(cutters=len(hulls), sweep=sweep, boolean=time.perf_counter() - t0)
         out["total"] = time.perf_counter() - t_all
     out["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    # the stock's worker process, if one took the batches (ended by stock.close())
+    out["worker_mb"] = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
     conn.send(out)
     conn.close()
 
@@ -220,9 +227,12 @@ def line(r: dict) -> str:
         dev += f"  [{r['cusp_poses']} poses added against cusps]"
     if len(r.get("totals", ())) > 1:
         dev += f"  (runs: {', '.join(f'{t:.2f}' for t in r['totals'])} s)"
+    worker = ""
+    if r.get("worker_mb"):
+        worker = f" + worker {r['worker_mb']:4.0f} MB (waited {r.get('wait', 0.0):.2f} s)"
     return (f"{r['case']:<16s} {r['moves']:>6d} moves {r['cutters']:>6d} cutters  sweep "
             f"{r['sweep']:6.2f} s  boolean {r['boolean']:7.2f} s  total {r['total']:7.2f} s  "
-            f"peak {r['peak_mb']:6.0f} MB{dev}")
+            f"peak {r['peak_mb']:6.0f} MB{worker}{dev}")
 
 
 def machine_figure() -> str:

@@ -268,6 +268,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             report.findings.extend(Finding("blank_hull", "info", m, data=d) for m, d in notes)
             sim = simulate(table, model, library, stock, checks=True, clearance=options.clearance)
             engine.check(stock.solid)      # the last queued cutters subtracted: the stock's work
+            stock.close()                  # its worker process, if any, ends here
             report.part = stock
             report.sim = sim
             # tools missing from the library are already `unknown_tool` errors

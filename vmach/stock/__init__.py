@@ -10,7 +10,23 @@ Public API::
 ``vmach.stock.engine`` is the only module of the project that imports manifold3d.
 """
 
-from vmach.stock.spec import parse_stock
-from vmach.stock.stock import CutStats, Stock
 
 __all__ = ["CutStats", "Stock", "parse_stock"]
+
+
+def __getattr__(name: str):
+    """The public names, imported when first asked for: the boolean worker process
+    (:mod:`vmach.stock.remote`) imports only :mod:`vmach.stock.engine` and its batches."""
+    if name == "parse_stock":
+        from vmach.stock.spec import parse_stock
+
+        return parse_stock
+    if name == "CutStats":
+        from vmach.stock.stats import CutStats
+
+        return CutStats
+    if name == "Stock":
+        from vmach.stock.stock import Stock
+
+        return Stock
+    raise AttributeError(f"module 'vmach.stock' has no attribute {name!r}")

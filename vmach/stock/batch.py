@@ -9,6 +9,11 @@ that each take runs of ``group`` consecutive cutters spread over the window.
 
 After every batch the piece is evaluated and checked: a valid manifold whose volume did not
 grow (:class:`vmach.stock.engine.StockError` otherwise).
+
+Once ``remote_after`` cutters were queued (and a window is full), the batches go to a worker
+process (:mod:`vmach.stock.remote`), which subtracts and checks them in the same order while
+the caller goes on making cutters; the piece's ``solid``, ``volume`` and ``box`` then wait for
+it. The batches, and so the part, are the same either way.
 """
 
 from __future__ import annotations
@@ -22,27 +27,118 @@ from vmach.stock import engine
 EMPTY_BOX = np.array([[np.inf] * 3, [-np.inf] * 3])
 
 
-class Piece:
-    """solid : engine.Solid; batch, spread, group : int (see the module docstring)."""
+def subtract_checked(solid: engine.Solid, volume: float, cutters: list[engine.Solid]
+                     ) -> tuple[engine.Solid, float]:
+    """``solid`` minus ``cutters``, evaluated and checked: (the result, its volume mm³).
+    Raises StockError unless it is a valid manifold whose volume did not grow."""
+    new = engine.subtract(solid, cutters)
+    engine.check(new, "stock")
+    vol = engine.volume(new)
+    if vol > volume * (1 + 1e-9) + 1e-9:
+        raise engine.StockError(f"stock volume grew from {volume:.6f} to {vol:.6f} mm³")
+    return new, vol
 
-    def __init__(self, solid: engine.Solid, batch: int = 64, spread: int = 8, group: int = 16):
+
+def box_of(solid: engine.Solid) -> np.ndarray:
+    """(2, 3) float, mm: the solid's bounds (EMPTY_BOX when empty)."""
+    return engine.bounds(solid) if not engine.is_empty(solid) else EMPTY_BOX.copy()
+
+
+class Piece:
+    """solid : engine.Solid; batch, spread, group : int (see the module docstring);
+    remote_after : int or None — cutters queued after which full windows go to a worker
+    process (None: never)."""
+
+    def __init__(self, solid: engine.Solid, batch: int = 64, spread: int = 8, group: int = 16,
+                 remote_after: int | None = None):
         engine.check(solid, "stock")
-        self.solid = solid
-        self.volume = engine.volume(solid)
-        self.box = engine.bounds(solid) if not engine.is_empty(solid) else EMPTY_BOX.copy()
+        self._solid = solid
+        self._volume = engine.volume(solid)
+        self._box = box_of(solid)
         self.batch = max(1, int(batch))
         self.spread = max(1, int(spread))
         self.group = max(1, int(group))
+        self.remote_after = remote_after
+        self.remote = None       # a vmach.stock.remote.Remote once the worker is started
+        self.on_progress = None  # called as the worker reports progress (a progress bar)
+        self._synced = True      # solid, volume and box are the worker's after its last batch
         self.pending: list[engine.Solid] = []
+        self.queued = 0          # cutters ever queued
         self.batches = 0
-        self.done = 0            # cutters subtracted
-        self.seconds = 0.0       # boolean time
+        self.sent = 0            # cutters taken into batches
+        self._before = 0         # ... of them subtracted here before the worker started
+        self._seconds = 0.0      # boolean time in this process
 
+    # the piece after every batch so far (waits for the worker, with one) ----------------------
+    @property
+    def solid(self) -> engine.Solid:
+        self._sync()
+        return self._solid
+
+    @property
+    def volume(self) -> float:
+        self._sync()
+        return self._volume
+
+    @property
+    def box(self) -> np.ndarray:
+        self._sync()
+        return self._box
+
+    @property
+    def seconds(self) -> float:
+        """Boolean time, s: this process's, and the worker's as of its last answer."""
+        return self._seconds + (self.remote.seconds if self.remote is not None else 0.0)
+
+    @property
+    def done(self) -> int:
+        """Cutters subtracted (with a worker: as far as it has said)."""
+        return self.sent if self.remote is None else self._before + self.remote.poll()
+
+    @property
+    def wait_seconds(self) -> float:
+        """Time this process waited for the worker, s."""
+        return self.remote.wait_seconds if self.remote is not None else 0.0
+
+    def snapshot(self):
+        """The piece after every batch so far, as ``get() -> (vertices (n, 3), faces (m, 3),
+        box (2, 3), volume)`` (:func:`vmach.stock.engine.to_arrays`; mm, mm³); with a worker,
+        asked for now and waited for only when got."""
+        if self.remote is not None:
+            return self.remote.snapshot()
+        return _Ready((*engine.to_arrays(self._solid), self._box.copy(), self._volume))
+
+    def _sync(self) -> None:
+        if self._synced:
+            return
+        v, f, box, volume = self.remote.snapshot().get()
+        self._solid, self._volume, self._box = engine.from_arrays(v, f), volume, box
+        self._synced = True
+
+    def close(self) -> None:
+        """Stop the worker, if any, once it has answered for every batch (the piece stays as
+        it was after its last batch; later batches are subtracted here)."""
+        if self.remote is not None:
+            self._sync()
+            self._seconds += self.remote.seconds
+            self.remote.close()
+            self.remote, self.remote_after = None, None
+            self._before = self.sent
+
+    # the queue ---------------------------------------------------------------------------------
     def add(self, cutters: list[engine.Solid]) -> None:
         """Queue cutters; full windows are subtracted at once."""
         self.pending += cutters
+        self.queued += len(cutters)
         window = self.batch * self.spread
         while len(self.pending) >= window:
+            if (self.remote is None and self.remote_after is not None
+                    and self.queued >= self.remote_after):
+                from vmach.stock.remote import Remote
+
+                self.remote = Remote(self._solid, self._volume)
+                self.remote.on_progress = self.on_progress
+                self._before = self.sent
             self._window(window)
 
     def flush(self) -> None:
@@ -63,14 +159,23 @@ class Piece:
     def _subtract(self, take: list[engine.Solid]) -> None:
         if not take:
             return
-        t0 = time.perf_counter()
-        new = engine.subtract(self.solid, take)
-        engine.check(new, "stock")
-        vol = engine.volume(new)
-        if vol > self.volume * (1 + 1e-9) + 1e-9:
-            raise engine.StockError(f"stock volume grew from {self.volume:.6f} to {vol:.6f} mm³")
-        self.solid, self.volume = new, vol
-        self.box = engine.bounds(new) if not engine.is_empty(new) else EMPTY_BOX.copy()
+        if self.remote is not None:
+            self.remote.cut(take)
+            self._synced = False
+        else:
+            t0 = time.perf_counter()
+            self._solid, self._volume = subtract_checked(self._solid, self._volume, take)
+            self._box = box_of(self._solid)
+            self._seconds += time.perf_counter() - t0
         self.batches += 1
-        self.done += len(take)
-        self.seconds += time.perf_counter() - t0
+        self.sent += len(take)
+
+
+class _Ready:
+    """A snapshot taken at once (no worker)."""
+
+    def __init__(self, value: tuple):
+        self._value = value
+
+    def get(self) -> tuple:
+        return self._value

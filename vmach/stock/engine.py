@@ -19,9 +19,10 @@ from vmach.errors import VmachError
 Solid = m3d.Manifold
 
 __all__ = [
-    "Solid", "StockError", "box", "bounds", "centroid", "check", "cylinder", "empty", "from_mesh", "hull",
-    "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles", "slice_polygons", "split",
-    "subtract", "to_mesh", "transform", "trim", "union", "volume",
+    "Solid", "StockError", "box", "bounds", "centroid", "check", "cylinder", "empty", "from_arrays",
+    "from_mesh", "hull", "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles", "slice_polygons",
+    "split",
+    "subtract", "to_arrays", "to_mesh", "transform", "trim", "union", "volume",
 ]
 
 
@@ -76,6 +77,24 @@ def from_mesh(vertices: np.ndarray, faces: np.ndarray, what: str = "mesh", doubl
             solid = solid.warp_batch(exact)
             check(solid, what)
     return solid
+
+
+def to_arrays(solid: Solid) -> tuple[np.ndarray, np.ndarray]:
+    """A solid as plain arrays, exactly (to send to another process): vertices (n, 3) float64
+    as manifold3d holds them and faces (m, 3) uint64. :func:`from_arrays` makes it again."""
+    mesh = solid.to_mesh64()
+    return (np.array(mesh.vert_properties, dtype=np.float64)[:, :3].copy(),
+            np.array(mesh.tri_verts, dtype=np.uint64).reshape(-1, 3))
+
+
+def from_arrays(vertices: np.ndarray, faces: np.ndarray) -> Solid:
+    """The solid of :func:`to_arrays`' arrays (vertices kept in double precision; manifold3d's
+    64-bit mesh takes only writable, C-ordered arrays of its exact dtypes, hence the copies)."""
+    v = np.array(vertices, dtype=np.float64, order="C", copy=True).reshape(-1, 3)
+    f = np.array(faces, dtype=np.uint64, order="C", copy=True).reshape(-1, 3)
+    if len(f) == 0:
+        return empty()
+    return m3d.Manifold(m3d.Mesh64(vert_properties=v, tri_verts=f))
 
 
 #: a folded hull of up to this many points is made again from Qhull's extreme points (Qhull

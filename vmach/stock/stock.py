@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import sys
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -41,58 +40,13 @@ from vmach.stock.fan import (
 from vmach.stock.hull import BlankHull, blank_hull, box_corners, hull_of
 from vmach.stock.slabs import Slabs
 from vmach.stock.spec import parse_stock
+from vmach.stock.stats import CutStats
 from vmach.stock.sweep import axial_runs, plan, run_extremes, stacked_runs
 from vmach.tol import tol
 from vmach.tooling.model import Tool
 from vmach.tooling.solid import ToolSolid, across, frames, lateral, spun, tool_solid
 
 EXPORT_FORMATS = (".stl", ".3mf", ".ply")
-
-
-@dataclass
-class CutStats:
-    """Counters of a stock's life (seconds, counts).
-
-    cutters : cutters made; culled : cutters that miss the stock; covered : placed poses left
-    out because a translation hull contains them; fans : fan cutters (:mod:`vmach.stock.fan`)
-    and fan_poses : the poses they cover; fan_overcut_mm : the largest bridge of a fan's hull
-    over the floor its tool's side sweeps, measured (mm), where no other pose of the path cuts
-    anyway; fan_covered_mm : the largest such bridge where other poses of the path do (a
-    helix's other turns; :func:`vmach.stock.fan.covered`); cusp_poses : placed poses added
-    between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`), and
-    cusp_fins : those cut as their fin only (:func:`vmach.stock.cusps.fin_widths`); inner_fins :
-    placed poses between two placed rotary steps cut as their fin (:meth:`Stock._inner_fins`);
-    foot_steps : steps parted against the feet of a flat face's rim (:mod:`vmach.stock.feet`); columns :
-    column cutters (:mod:`vmach.stock.column`) and column_cells : the turns' cells they hold;
-    column_overcut_mm : the deepest a column's face chain lies below one of its turns' own, or
-    its hull bridges a floor beyond what the path cuts anyway (mm; also in fan_overcut_mm);
-    axial_runs : translation runs along the tool's axis cut as the tool at their inner pose
-    (:meth:`Stock._axial`); stacked_runs : runs cut in one hull with a run they stack on
-    (:func:`vmach.stock.sweep.stacked_runs`);
-    sweep_seconds : making cutters; boolean_seconds : batch booleans.
-    """
-
-    paths: int = 0
-    poses: int = 0
-    cutters: int = 0
-    culled: int = 0
-    covered: int = 0
-    fans: int = 0
-    fan_poses: int = 0
-    fan_overcut_mm: float = 0.0
-    fan_covered_mm: float = 0.0
-    cusp_poses: int = 0
-    cusp_fins: int = 0
-    inner_fins: int = 0
-    foot_steps: int = 0
-    columns: int = 0
-    column_cells: int = 0
-    axial_runs: int = 0
-    stacked_runs: int = 0
-    column_overcut_mm: float = 0.0
-    batches: int = 0
-    sweep_seconds: float = 0.0
-    boolean_seconds: float = 0.0
 
 
 def _within(runs: np.ndarray, outer: np.ndarray) -> np.ndarray:
@@ -163,6 +117,13 @@ class Stock(CutterMaker):
     spread : int — batches taken from one window of queued cutters (:mod:`vmach.stock.batch`).
     arcs : bool — a flat or face mill's polygon round about the directions each pose is made
         exact toward (:func:`vmach.tooling.solid.ring_points`; ``Accuracy.rim_arcs``).
+    worker : bool — once ``WORKER_AFTER`` cutters were queued, subtract the batches in a worker
+        process while the next cutters are made (:mod:`vmach.stock.remote`; one cell only).
+
+    What the making of cutters reads of the stock — its bounds and trim slabs — is taken at
+    the slabs' retakes (:meth:`_boxes`), each from the stock as it was at the retake before
+    (the blank at the first two): the cutters, and so the part, do not depend on how far the
+    booleans have got, in this process or in the worker.
     """
 
     CHUNK = 256  # poses swept at a time (cutters are queued, and may be subtracted, as they come)
@@ -170,6 +131,7 @@ class Stock(CutterMaker):
     FRESH_AFTER = 4    # batches' worth of cutters after which a new path retakes them
     SLABS = True       # trim to the stock's extent per Z range (False: one box, for comparison)
     GROUP = 16   # consecutive cutters kept together in a spread batch
+    WORKER_AFTER = 512  # cutters queued before a worker process takes the batches
     BLANK_CELL = 20_000  # triangles of a finely meshed blank per cell (:meth:`blank_meets`)
     #: relative volume difference up to which a blank counts as convex: a convex blank read
     #: from an STL carries float32 coordinates (a Ø60 cylinder of 80,000 triangles: 2e-7).
@@ -182,7 +144,7 @@ class Stock(CutterMaker):
                  cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
                  progress: bool = False, trim: bool = True, spread: int = 8, fans: bool = True,
                  fan_overcut: float = tol.fan_overcut, cusp: float = tol.sweep_cusp, columns: bool = True,
-                 arcs: bool = False):
+                 arcs: bool = False, worker: bool = True):
         engine.check(solid, "blank")
         self.initial = solid
         self.initial_bounds = engine.bounds(solid)
@@ -195,6 +157,7 @@ class Stock(CutterMaker):
         self.columns = columns and self.fans
         self.fan_overcut = fan_overcut
         self.cusp = cusp
+        self.worker = bool(worker)
         self._hull: BlankHull | None = None    # the blank's hull for the screening (hull.py)
         self._blank_cells: dict | None = None   # (i, j, k) -> the blank in that grid cell
         self._blank_edges: list = []
@@ -204,6 +167,10 @@ class Stock(CutterMaker):
         self._slabs_at = -1         # batches done when the slabs were taken
         self.stats = CutStats()
         self._cells = self._partition(solid, cells)
+        # the cells' boxes (c, 2, 3) the cutters are made against, and the cells as they were
+        # at the last retake of the slabs (what the next one takes: :meth:`_boxes`)
+        self._seen = np.array([c.box for c in self._cells]) if self._cells else EMPTY_BOX[None]
+        self._next_view: list | None = None
         self._solid: engine.Solid | None = solid
         self._bar = None
         self._progress = progress and sys.stderr.isatty()
@@ -224,6 +191,7 @@ class Stock(CutterMaker):
         nx, ny, nz = (max(1, int(c)) for c in cells)
         if nx * ny * nz == 1:
             return [self._piece(solid)]
+        self.worker = False
         b = engine.bounds(solid)
         pad = 1e-3
         edges = [np.linspace(b[0, i] - pad, b[1, i] + pad, n + 1) for i, n in enumerate((nx, ny, nz))]
@@ -240,7 +208,10 @@ class Stock(CutterMaker):
         return out
 
     def _piece(self, solid: engine.Solid) -> Piece:
-        return Piece(solid, self.batch, self.spread, self.GROUP)
+        piece = Piece(solid, self.batch, self.spread, self.GROUP,
+                      remote_after=self.WORKER_AFTER if self.worker else None)
+        piece.on_progress = self._update_bar
+        return piece
 
     def _tool_pieces(self, ts: ToolSolid) -> list[engine.Solid]:
         if id(ts) not in self._piece_cache:
@@ -643,8 +614,11 @@ class Stock(CutterMaker):
         else:
             stale = done - self._slabs_at >= self.SLAB_REFRESH
         if self.SLABS and (self._slabs is None or stale):
-            meshes = [engine.to_mesh(c.solid, double=True) for c in self._cells
-                      if not engine.is_empty(c.solid)]
+            now = [c.snapshot() for c in self._cells]       # for the next retake
+            view = [s.get() for s in (self._next_view or now)]
+            self._next_view = now
+            self._seen = np.array([s[2] for s in view])
+            meshes = [(s[0], s[1].astype(np.int64)) for s in view if len(s[1])]
             if meshes:
                 offset = np.cumsum([0] + [len(m[0]) for m in meshes])[:-1]
                 faces = [m[1] + o for m, o in zip(meshes, offset, strict=True)]
@@ -666,8 +640,8 @@ class Stock(CutterMaker):
         bx = np.asarray(boxes)                                            # (c, 2, 3)
         used = np.zeros(len(cutters), bool)
         queued = 0
-        for cell in self._cells:
-            hit = np.all(bx[:, 0] <= cell.box[1], axis=1) & np.all(bx[:, 1] >= cell.box[0], axis=1)
+        for cell, box in zip(self._cells, self._seen, strict=False):
+            hit = np.all(bx[:, 0] <= box[1], axis=1) & np.all(bx[:, 1] >= box[0], axis=1)
             used |= hit
             queued += int(hit.sum())
             cell.add([cutters[i] for i in np.nonzero(hit)[0]])
@@ -679,6 +653,7 @@ class Stock(CutterMaker):
 
     def _account(self) -> None:
         self.stats.boolean_seconds = sum(c.seconds for c in self._cells) + self._union_seconds
+        self.stats.wait_seconds = sum(c.wait_seconds for c in self._cells)
         self.stats.batches = sum(c.batches for c in self._cells)
         self._update_bar()
 
@@ -702,12 +677,24 @@ class Stock(CutterMaker):
             cell.flush()
 
     def flush(self) -> None:
-        """Subtract every queued cutter."""
+        """Subtract every queued cutter (with a worker process: hand them to it)."""
         self._flush_cells()
         self._account()
+        if not any(c.remote is not None for c in self._cells):
+            self._close_bar()
+
+    def _close_bar(self) -> None:
         if self._bar is not None:
             self._bar.close()
             self._bar = None
+
+    def close(self) -> None:
+        """Stop the worker process, if one took the batches, once it has subtracted them all
+        (the stock stays as it is; cutters queued later are subtracted in this process)."""
+        for c in self._cells:
+            c.close()
+        self._account()
+        self._close_bar()
 
     # ----------------------------------------------------------------------------------------
     @property
@@ -715,8 +702,11 @@ class Stock(CutterMaker):
         """The cut part (all pending cutters subtracted)."""
         if self._solid is None:
             self.flush()
+            cells = [c.solid for c in self._cells]          # (waits for a worker)
+            self._account()
+            self._close_bar()
             t0 = time.perf_counter()
-            self._solid = engine.union([c.solid for c in self._cells])
+            self._solid = engine.union(cells)
             engine.check(self._solid, "stock")
             self._union_seconds += time.perf_counter() - t0
             self._account()
@@ -743,10 +733,9 @@ class Stock(CutterMaker):
 
     @property
     def bounds(self) -> np.ndarray:
-        """(2, 3) float, mm — bounds of the stock now (pending cutters not yet subtracted: the
-        stock only shrinks, so this is conservative)."""
-        boxes = np.array([c.box for c in self._cells]) if self._cells else EMPTY_BOX[None]
-        return np.stack([boxes[:, 0].min(axis=0), boxes[:, 1].max(axis=0)])
+        """(2, 3) float, mm — bounds of the stock as the slabs' last retake saw it (the stock
+        only shrinks, so this is conservative; see the class docstring)."""
+        return np.stack([self._seen[:, 0].min(axis=0), self._seen[:, 1].max(axis=0)])
 
     @property
     def volume(self) -> float:

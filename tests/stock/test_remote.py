@@ -1,0 +1,112 @@
+"""Batches subtracted in a worker process (vmach/stock/remote.py) while the caller goes on."""
+
+from __future__ import annotations
+
+import socket
+import threading
+from multiprocessing.connection import Connection
+
+import numpy as np
+import pytest
+
+from tests.stock.conftest import turnmill
+from vmach.stock import Stock, engine
+from vmach.stock.batch import Piece
+from vmach.stock.remote import serve
+
+
+def _cutters(n: int, seed: int = 0) -> list:
+    """n small convex cutters around the rim of a Ø60 cylinder's top, overlapping their
+    neighbours (mm)."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for a in np.linspace(0.0, 2.0 * np.pi, n, endpoint=False):
+        c = np.array([29.0 * np.cos(a), 29.0 * np.sin(a), -2.0])
+        out.append(engine.hull(c + rng.normal(size=(30, 3)) * [2.0, 2.0, 1.5]))
+    return out
+
+
+def test_a_worker_subtracts_the_same_batches_to_the_same_piece():
+    """The same cutters through a local piece and one whose batches go to a worker process
+    from the first full window on: the same batches, the same volume (to rounding: the
+    worker's solids are made again from their exact double-precision meshes), both valid."""
+    blank = engine.cylinder(30.0, -20.0, 0.0, 256)
+    cutters = _cutters(96)
+    local = Piece(blank, batch=8, spread=2, group=4)
+    remote = Piece(blank, batch=8, spread=2, group=4, remote_after=0)
+    try:
+        for p in (local, remote):
+            for i in range(0, len(cutters), 10):
+                p.add(cutters[i : i + 10])
+            p.flush()
+        assert remote.remote is not None and local.remote is None
+        assert remote.batches == local.batches == 12
+        assert remote.volume == pytest.approx(local.volume, rel=1e-12)
+        assert remote.volume < engine.volume(blank) - 100.0             # material went
+        engine.check(remote.solid)
+        assert np.allclose(remote.box, local.box, atol=1e-9)
+        assert remote.seconds > 0.0
+    finally:
+        remote.close()
+    assert remote.remote is None and remote.volume == pytest.approx(local.volume, rel=1e-12)
+
+
+def test_the_workers_process_ends_with_its_piece():
+    blank = engine.cylinder(30.0, -20.0, 0.0, 64)
+    piece = Piece(blank, batch=4, spread=1, remote_after=0)
+    piece.add(_cutters(4))
+    proc = piece.remote._proc
+    assert proc.poll() is None
+    piece.close()
+    assert proc.poll() is not None
+
+
+def test_a_batch_the_worker_cannot_subtract_is_an_error_at_the_next_answer():
+    """The worker's loop over a socket pair (in a thread here): a cutter that is not a closed
+    mesh makes the stock invalid; the answer carries the error (kind and message), and later
+    batches are skipped (the cutters done stay at the first batch's)."""
+    ours, theirs = socket.socketpair()
+    a, b = Connection(ours.detach()), Connection(theirs.detach())
+    worker = threading.Thread(target=serve, args=(b,))
+    worker.start()
+    try:
+        blank = engine.cylinder(30.0, -20.0, 0.0, 64)
+        a.send(("solid", *engine.to_arrays(blank), engine.volume(blank)))
+        a.send(("cut", [engine.to_arrays(c) for c in _cutters(4)]))
+        a.send(("snap", 1))
+        assert a.recv() == ("done", 4)                                  # cutters subtracted
+        msg = a.recv()
+        assert msg[:2] == ("snap", 1) and msg[-1] is None
+        good = msg[5]
+        assert good < engine.volume(blank)
+        v, f = engine.to_arrays(engine.box([25.0, -5.0, -5.0], [35.0, 5.0, 5.0]))
+        a.send(("cut", [(v, f[:-1])]))                                  # one face missing
+        a.send(("cut", [engine.to_arrays(c) for c in _cutters(4, seed=1)]))
+        a.send(("snap", 2))
+        assert a.recv() == ("done", 4)                          # the failed batch; the next skipped
+        msg = a.recv()
+        assert msg[1] == 2 and msg[-1][0] == "stock_invalid"
+    finally:
+        a.close()
+        worker.join(timeout=10)
+    assert not worker.is_alive()
+
+
+def test_a_stock_gives_the_same_part_with_a_worker_and_without(face40):
+    """A rotary facing pass of a few hundred cutters, once in process and once with the
+    batches in a worker from the first window: the same cutters (what the sweep reads of the
+    stock does not depend on the booleans' progress), the same part."""
+    c = np.arange(0.0, 360.0, 0.75)
+    tips, axes = turnmill(26.0, 0.0, -10.0 + 0.0 * c, c)
+    parts = []
+    for worker in (False, True):
+        stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, fans=False, batch=16, spread=2,
+                                worker=worker)
+        stock._cells[0].remote_after = 0 if worker else None      # from the first window
+        stock.cut(face40, tips, axes)
+        parts.append((stock.stats.cutters, stock.stats.batches, stock.volume, stock))
+    (n0, b0, v0, s0), (n1, b1, v1, s1) = parts
+    assert s1._cells[0].remote is not None and s0._cells[0].remote is None
+    assert (n1, b1) == (n0, b0) and n0 > 64
+    assert v1 == pytest.approx(v0, rel=1e-12)
+    assert v0 < np.pi * 30.0 ** 2 * 60.0 - 1000.0

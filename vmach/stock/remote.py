@@ -1,0 +1,166 @@
+"""A piece of stock held by a worker process, which subtracts batches of cutters while the
+caller goes on making the next ones.
+
+manifold3d holds the GIL while it evaluates a boolean (docs/stock.md: a Python loop ran four
+times slower beside a boolean on another thread, 1.3 times beside one in another process), so
+the sweep (Python and numpy, one core) and the booleans (manifold3d, both cores) overlap only
+in two processes. The worker is a fresh interpreter (``python -m vmach.stock.remote FD``, which
+imports manifold3d and numpy only): manifold3d's thread pool does not survive ``fork``.
+
+Protocol, over a socket pair (``multiprocessing.connection``, numpy arrays pickled):
+``("solid", vertices, faces, volume)`` once, then ``("cut", [(vertices, faces), ...])`` — one
+batch, subtracted and checked as :func:`vmach.stock.batch.subtract_checked` does, in the order
+sent, each answered by ``("done", cutters subtracted so far)`` for a progress bar — and
+``("snap", n)``, answered with the piece after every batch sent before it, its box,
+volume, the worker's boolean seconds and the first error (kind, message) if a batch failed
+(later batches are then skipped). All arrays in double precision (:func:`engine.to_arrays`),
+so the worker's batches are the caller's exactly.
+"""
+
+from __future__ import annotations
+
+import queue
+import socket
+import subprocess
+import sys
+import threading
+import time
+import weakref
+from multiprocessing.connection import Connection
+
+from vmach.stock import engine
+from vmach.stock.batch import box_of, subtract_checked
+
+
+class Remote:
+    """The client: a worker process holding ``solid`` (volume ``volume`` mm³)."""
+
+    def __init__(self, solid: engine.Solid, volume: float):
+        ours, theirs = socket.socketpair()
+        self._proc = subprocess.Popen(
+            [sys.executable, "-m", "vmach.stock.remote", str(theirs.fileno())],
+            pass_fds=(theirs.fileno(),), stdin=subprocess.DEVNULL)
+        theirs.close()
+        self._conn = Connection(ours.detach())
+        self._out: queue.SimpleQueue = queue.SimpleQueue()
+        self._broken: BaseException | None = None
+        # a thread sends, so that the caller never blocks on a full socket while the worker
+        # is inside a boolean (sending releases the GIL)
+        self._sender = threading.Thread(target=self._send_loop, daemon=True)
+        self._sender.start()
+        self._asked = 0                 # snapshots asked for
+        self._answers: dict[int, tuple] = {}
+        self.seconds = 0.0              # the worker's boolean time as of its last answer
+        self.wait_seconds = 0.0         # time spent waiting for answers
+        self.subtracted = 0             # cutters the worker has subtracted, as last heard
+        self.on_progress = None         # called as the worker reports while waited for
+        self._finalizer = weakref.finalize(self, _stop, self._proc, self._out, self._sender)
+        self._out.put(("solid", *engine.to_arrays(solid), float(volume)))
+
+    def _send_loop(self) -> None:
+        while True:
+            msg = self._out.get()
+            if msg is None:
+                return
+            try:
+                self._conn.send(msg)
+            except OSError as exc:      # the worker is gone: reported at the next answer
+                self._broken = exc
+                return
+
+    def cut(self, cutters: list[engine.Solid]) -> None:
+        """Send one batch (evaluated here: the arrays are the cutters' exact meshes)."""
+        self._out.put(("cut", [engine.to_arrays(c) for c in cutters]))
+
+    def snapshot(self) -> _Answer:
+        """Ask for the piece after every batch sent so far."""
+        self._asked += 1
+        self._out.put(("snap", self._asked))
+        return _Answer(self, self._asked)
+
+    def poll(self) -> int:
+        """Read what the worker has said so far, without waiting; the cutters it subtracted."""
+        while self._conn.poll(0):
+            self._read()
+        return self.subtracted
+
+    def _read(self, notify: bool = False) -> None:
+        try:
+            msg = self._conn.recv()
+        except (EOFError, OSError):
+            code = self._proc.poll()
+            raise engine.StockError(f"the stock's worker process stopped (exit code {code})"
+                                    ) from self._broken
+        if msg[0] == "done":
+            self.subtracted = msg[1]
+            if notify and self.on_progress is not None:
+                self.on_progress()
+        else:
+            self._answers[msg[1]] = msg[2:]
+
+    def _answer(self, n: int) -> tuple:
+        t0 = time.perf_counter()
+        while n not in self._answers:
+            self._read(notify=True)
+        self.wait_seconds += time.perf_counter() - t0
+        v, f, box, volume, seconds, error = self._answers.pop(n)
+        self.seconds = seconds
+        if error is not None:
+            raise engine.StockError(error[1], kind=error[0])
+        return v, f, box, volume
+
+    def close(self) -> None:
+        self._finalizer()
+
+
+class _Answer:
+    def __init__(self, remote: Remote, n: int):
+        self._remote, self._n, self._value = remote, n, None
+
+    def get(self) -> tuple:
+        """(vertices (n, 3), faces (m, 3), box (2, 3), volume mm³); waits for the worker."""
+        if self._value is None:
+            self._value = self._remote._answer(self._n)
+        return self._value
+
+
+def _stop(proc: subprocess.Popen, out: queue.SimpleQueue, sender: threading.Thread) -> None:
+    out.put(None)
+    sender.join(timeout=5)
+    proc.terminate()
+    try:
+        proc.wait(timeout=5)
+    except subprocess.TimeoutExpired:  # pragma: no cover - a worker deaf to SIGTERM
+        proc.kill()
+
+
+def serve(conn: Connection) -> None:
+    """The worker's loop (see the module docstring); returns when the caller goes away."""
+    solid, volume, seconds, error, done = engine.empty(), 0.0, 0.0, None, 0
+    while True:
+        try:
+            msg = conn.recv()
+        except (EOFError, OSError):
+            return
+        if msg[0] == "solid":
+            solid, volume = engine.from_arrays(msg[1], msg[2]), msg[3]
+        elif msg[0] == "cut" and error is None:
+            t0 = time.perf_counter()
+            try:
+                cutters = [engine.from_arrays(v, f) for v, f in msg[1]]
+                solid, volume = subtract_checked(solid, volume, cutters)
+                done += len(cutters)
+            except engine.StockError as exc:
+                error = (exc.kind, str(exc))
+            except Exception as exc:    # noqa: BLE001 - reported to the caller, not printed
+                error = ("stock_worker", f"the stock's worker process failed: {exc!r}")
+            seconds += time.perf_counter() - t0
+            conn.send(("done", done))
+        elif msg[0] == "snap":
+            arrays = engine.to_arrays(solid) if error is None else (None, None)
+            box = box_of(solid) if error is None else None
+            conn.send(("snap", msg[1], *arrays, box, volume, seconds, error))
+
+
+if __name__ == "__main__":
+    serve(Connection(int(sys.argv[1])))
