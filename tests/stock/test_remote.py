@@ -49,6 +49,7 @@ def test_a_worker_subtracts_the_same_batches_to_the_same_piece():
     finally:
         remote.close()
     assert remote.remote is None and remote.volume == pytest.approx(local.volume, rel=1e-12)
+    assert remote.wait_seconds > 0.0 and local.wait_seconds == 0.0      # kept once closed
 
 
 def test_the_workers_process_ends_with_its_piece():

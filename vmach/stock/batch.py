@@ -68,6 +68,7 @@ class Piece:
         self.sent = 0            # cutters taken into batches
         self._before = 0         # ... of them subtracted here before the worker started
         self._seconds = 0.0      # boolean time in this process
+        self._waited = 0.0       # time waited for a worker since closed
 
     # the piece after every batch so far (waits for the worker, with one) ----------------------
     @property
@@ -98,7 +99,7 @@ class Piece:
     @property
     def wait_seconds(self) -> float:
         """Time this process waited for the worker, s."""
-        return self.remote.wait_seconds if self.remote is not None else 0.0
+        return self._waited + (self.remote.wait_seconds if self.remote is not None else 0.0)
 
     def snapshot(self):
         """The piece after every batch so far, as ``get() -> (vertices (n, 3), faces (m, 3),
@@ -121,6 +122,7 @@ class Piece:
         if self.remote is not None:
             self._sync()
             self._seconds += self.remote.seconds
+            self._waited += self.remote.wait_seconds
             self.remote.close()
             self.remote, self.remote_after = None, None
             self._before = self.sent
