@@ -111,3 +111,22 @@ def test_a_stock_gives_the_same_part_with_a_worker_and_without(face40):
     assert (n1, b1) == (n0, b0) and n0 > 64
     assert v1 == pytest.approx(v0, rel=1e-12)
     assert v0 < np.pi * 30.0 ** 2 * 60.0 - 1000.0
+
+
+def test_without_a_worker_process_the_batches_stay_in_this_process(monkeypatch):
+    """Where no worker can be started (no socket pair, no fd passing), the piece subtracts
+    its batches itself, with the same result."""
+    import vmach.stock.remote as remote
+
+    def refuse(*args, **kwargs):
+        raise OSError("no processes here")
+
+    monkeypatch.setattr(remote.Remote, "__init__", refuse)
+    blank = engine.cylinder(30.0, -20.0, 0.0, 64)
+    piece = Piece(blank, batch=4, spread=1, remote_after=0)
+    local = Piece(blank, batch=4, spread=1)
+    for p in (piece, local):
+        p.add(_cutters(8))
+        p.flush()
+    assert piece.remote is None and piece.remote_after is None
+    assert piece.batches == 2 and piece.volume == pytest.approx(local.volume, rel=1e-12)

@@ -138,9 +138,13 @@ class Piece:
                     and self.queued >= self.remote_after):
                 from vmach.stock.remote import Remote
 
-                self.remote = Remote(self._solid, self._volume)
-                self.remote.on_progress = self.on_progress
-                self._before = self.sent
+                try:
+                    self.remote = Remote(self._solid, self._volume)
+                except (OSError, ValueError):   # no worker process here: the batches stay
+                    self.remote_after = None
+                else:
+                    self.remote.on_progress = self.on_progress
+                    self._before = self.sent
             self._window(window)
 
     def flush(self) -> None:
