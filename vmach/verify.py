@@ -168,6 +168,22 @@ class _Clock:
         return _T()
 
 
+def _collisions(report: Report, clock, model, table, library, options: VerifyOptions) -> None:
+    """The machine's own collisions and the tools' with the fixtures (they do not read the
+    stock)."""
+    with clock("collisions"):
+        from vmach.checks.collisions import fixture_collisions, machine_collisions, tool_cylinders
+
+        report.findings.extend(machine_collisions(model, table))
+        if library is not None:
+            cyl = {
+                i: tool_cylinders(t)
+                for i, name in enumerate(table.tools)
+                if (t := library.lookup(name)) is not None
+            }
+            report.findings.extend(fixture_collisions(model, table, cyl, clearance=options.clearance))
+
+
 def verify(program: str | Path, options: VerifyOptions) -> Report:
     """Run every stage on ``program``; return the Report (findings, profile, timings ...)."""
     path = Path(program)
@@ -247,6 +263,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             report.stock_spec, notes = declared
             report.findings.extend(Finding("workpiece", "info", n) for n in notes)
     spec = report.stock_spec
+    collided = False
     if options.export and not (spec and library is not None):
         raise InputError(f"--export needs a simulated stock: give {'--tools' if spec else '--stock'} "
                          "(or name it in vmach.toml)", kind="usage")
@@ -267,6 +284,11 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             stock = Stock.from_spec(spec, notes=notes, progress=not options.quiet, **acc.stock)
             report.findings.extend(Finding("blank_hull", "info", m, data=d) for m, d in notes)
             sim = simulate(table, model, library, stock, checks=True, clearance=options.clearance)
+        # the collision checks do not read the stock: they run while its worker process, if
+        # it took the batches, subtracts the last of them
+        _collisions(report, clock, model, table, library, options)
+        collided = True
+        with clock("stock"):
             engine.check(stock.solid)      # the last queued cutters subtracted: the stock's work
             stock.close()                  # its worker process, if any, ends here
             report.part = stock
@@ -280,19 +302,8 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             with clock("profile"):
                 report.findings.extend(_profile(report, stock, report.profile_spec, profile_plan, options))
 
-    with clock("collisions"):
-        from vmach.checks.collisions import fixture_collisions, machine_collisions, tool_cylinders
-
-        report.findings.extend(machine_collisions(model, table))
-    if library is not None:
-        with clock("collisions"):
-
-            cyl = {
-                i: tool_cylinders(t)
-                for i, name in enumerate(table.tools)
-                if (t := library.lookup(name)) is not None
-            }
-            report.findings.extend(fixture_collisions(model, table, cyl, clearance=options.clearance))
+    if not collided:
+        _collisions(report, clock, model, table, library, options)
 
     if options.images and options.out is not None:
         with clock("pictures"):
