@@ -600,9 +600,12 @@ class Stock(CutterMaker):
         slabs are taken again after every SLAB_REFRESH batches, and for a new path
         (``fresh``) once FRESH_AFTER batches' worth of cutters were made since — or one, with
         ``force`` (a path that may make fans, which judge the tool's back by the stock,
-        :meth:`_back_clear`) — then from the stock as it is, pending cutters subtracted (a
-        stale snapshot is only looser: the stock shrinks; a path cut chunk by chunk does not
-        retake it for every chunk)."""
+        :meth:`_back_clear`) — the pending cutters then handed to the booleans. Each retake
+        reads the stock as the retake before left it (a snapshot asked for then, which a worker
+        has had the time between to make), and asks for the stock as it is now for the next:
+        a stale snapshot is only looser (the stock shrinks), and the cutters never depend on
+        how far the booleans have got. A path cut chunk by chunk does not retake it for every
+        chunk."""
         done = sum(c.batches for c in self._cells)
         made = done + sum(len(c.pending) for c in self._cells) / self.batch
         since = made - self._slabs_at
