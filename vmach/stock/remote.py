@@ -20,6 +20,7 @@ so the worker's batches are the caller's exactly.
 from __future__ import annotations
 
 import queue
+import signal
 import socket
 import subprocess
 import sys
@@ -163,4 +164,7 @@ def serve(conn: Connection) -> None:
 
 
 if __name__ == "__main__":
+    # Ctrl-C reaches the whole process group: the caller handles it, and its going away ends
+    # this loop (no traceback from here)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     serve(Connection(int(sys.argv[1])))
