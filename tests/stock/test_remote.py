@@ -130,3 +130,21 @@ def test_without_a_worker_process_the_batches_stay_in_this_process(monkeypatch):
         p.flush()
     assert piece.remote is None and piece.remote_after is None
     assert piece.batches == 2 and piece.volume == pytest.approx(local.volume, rel=1e-12)
+
+
+def test_a_worker_that_dies_is_a_stock_worker_error():
+    """A worker killed mid-run (out of memory, a signal): the next read of the piece raises
+    StockError of kind ``stock_worker``, rendered by the CLI as ``error[stock_worker]``."""
+    blank = engine.cylinder(30.0, -20.0, 0.0, 64)
+    piece = Piece(blank, batch=4, spread=1, remote_after=0)
+    try:
+        piece.add(_cutters(4))
+        piece.remote._proc.kill()
+        piece.remote._proc.wait(timeout=10)
+        with pytest.raises(engine.StockError) as exc:
+            _ = piece.volume
+        assert exc.value.kind == "stock_worker"
+        assert [f.kind for f in exc.value.findings()] == ["stock_worker"]
+        assert "error[stock_worker]" in exc.value.findings()[0].render()
+    finally:
+        piece.remote.close()

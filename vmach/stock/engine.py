@@ -15,6 +15,7 @@ import manifold3d as m3d
 import numpy as np
 
 from vmach.errors import VmachError
+from vmach.findings import Finding
 
 Solid = m3d.Manifold
 
@@ -34,6 +35,9 @@ class StockError(VmachError):
     def __init__(self, message: str, kind: str = "stock_invalid"):
         super().__init__(message)
         self.kind = kind
+
+    def findings(self) -> list[Finding]:
+        return [Finding(self.kind, "error", str(self))]
 
 
 def empty() -> Solid:

@@ -90,8 +90,8 @@ class Remote:
             msg = self._conn.recv()
         except (EOFError, OSError):
             code = self._proc.poll()
-            raise engine.StockError(f"the stock's worker process stopped (exit code {code})"
-                                    ) from self._broken
+            raise engine.StockError(f"the stock's worker process stopped (exit code {code})",
+                                    kind="stock_worker") from self._broken
         if msg[0] == "done":
             self.subtracted = msg[1]
             if notify and self.on_progress is not None:
