@@ -263,11 +263,11 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             report.stock_spec, notes = declared
             report.findings.extend(Finding("workpiece", "info", n) for n in notes)
     spec = report.stock_spec
-    collided = False
-    if options.export and not (spec and library is not None):
+    simulated = bool(spec) and library is not None     # the stock is cut
+    if options.export and not simulated:
         raise InputError(f"--export needs a simulated stock: give {'--tools' if spec else '--stock'} "
                          "(or name it in vmach.toml)", kind="usage")
-    if spec and library is not None:
+    if simulated:
         with clock("stock"):
             from vmach.stock import Stock, engine
             from vmach.stock.simulate import simulate
@@ -287,7 +287,6 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         # the collision checks do not read the stock: they run while its worker process, if
         # it took the batches, subtracts the last of them
         _collisions(report, clock, model, table, library, options)
-        collided = True
         with clock("stock"):
             engine.check(stock.solid)      # the last queued cutters subtracted: the stock's work
             stock.close()                  # its worker process, if any, ends here
@@ -302,7 +301,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             with clock("profile"):
                 report.findings.extend(_profile(report, stock, report.profile_spec, profile_plan, options))
 
-    if not collided:
+    if not simulated:
         _collisions(report, clock, model, table, library, options)
 
     if options.images and options.out is not None:

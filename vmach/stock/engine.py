@@ -22,8 +22,7 @@ Solid = m3d.Manifold
 __all__ = [
     "Solid", "StockError", "box", "bounds", "centroid", "check", "cylinder", "empty", "from_arrays",
     "from_mesh", "hull", "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles", "slice_polygons",
-    "split",
-    "subtract", "to_arrays", "to_mesh", "transform", "trim", "union", "volume",
+    "split", "subtract", "to_arrays", "to_mesh", "transform", "trim", "union", "volume",
 ]
 
 

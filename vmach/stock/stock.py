@@ -157,7 +157,8 @@ class Stock(CutterMaker):
         self.columns = columns and self.fans
         self.fan_overcut = fan_overcut
         self.cusp = cusp
-        self.worker = bool(worker)
+        # a worker process takes one cell's batches: not with a partition
+        self.worker = bool(worker) and all(max(1, int(c)) == 1 for c in cells)
         self._hull: BlankHull | None = None    # the blank's hull for the screening (hull.py)
         self._blank_cells: dict | None = None   # (i, j, k) -> the blank in that grid cell
         self._blank_edges: list = []
@@ -191,7 +192,6 @@ class Stock(CutterMaker):
         nx, ny, nz = (max(1, int(c)) for c in cells)
         if nx * ny * nz == 1:
             return [self._piece(solid)]
-        self.worker = False
         b = engine.bounds(solid)
         pad = 1e-3
         edges = [np.linspace(b[0, i] - pad, b[1, i] + pad, n + 1) for i, n in enumerate((nx, ny, nz))]
