@@ -148,3 +148,31 @@ def test_a_worker_that_dies_is_a_stock_worker_error():
         assert "error[stock_worker]" in exc.value.findings()[0].render()
     finally:
         piece.remote.close()
+
+
+def test_a_flush_hands_the_batches_to_the_worker_and_it_answers_for_a_box_alone():
+    """Chunks flushed to be measured (a checked run) may never fill a window: the worker takes
+    the batches from the first flush after ``remote_after`` cutters too; and the piece inside
+    a box is made there — the same solid as here (volume to rounding), only that part sent,
+    after every batch so far (the one flushed just before included)."""
+    blank = engine.cylinder(30.0, -20.0, 0.0, 256)
+    cutters = _cutters(40)
+    local = Piece(blank, batch=8, spread=8, group=4)
+    remote = Piece(blank, batch=8, spread=8, group=4, remote_after=16)
+    lo, hi = np.array([20.0, -12.0, -6.0]), np.array([32.0, 12.0, 0.5])
+    try:
+        for p in (local, remote):
+            for i in range(0, len(cutters), 10):      # chunks of 10: a window is 64
+                p.add(cutters[i : i + 10])
+                p.flush()
+        assert local.remote is None
+        assert remote.remote is not None and remote._before == 10   # the second flush (20 queued)
+        a, b = local.local(lo, hi), remote.local(lo, hi)
+        assert engine.volume(b) == pytest.approx(engine.volume(a), rel=1e-9)
+        assert 10.0 < engine.volume(b) < engine.volume(engine.box(lo, hi))
+        assert np.all(engine.bounds(b)[0] >= lo - 1e-9) and np.all(engine.bounds(b)[1] <= hi + 1e-9)
+        assert engine.num_triangles(b) < engine.num_triangles(remote.solid) / 2
+        assert engine.is_empty(remote.local(lo + 100.0, hi + 100.0))
+        assert engine.is_empty(local.local(lo + 100.0, hi + 100.0))
+    finally:
+        remote.close()

@@ -134,22 +134,38 @@ class Piece:
         self.queued += len(cutters)
         window = self.batch * self.spread
         while len(self.pending) >= window:
-            if (self.remote is None and self.remote_after is not None
-                    and self.queued >= self.remote_after):
-                from vmach.stock.remote import Remote
-
-                try:
-                    self.remote = Remote(self._solid, self._volume)
-                except (OSError, ValueError):   # no worker process here: the batches stay
-                    self.remote_after = None
-                else:
-                    self.remote.on_progress = self.on_progress
-                    self._before = self.sent
+            self._start()
             self._window(window)
 
     def flush(self) -> None:
+        if self.pending:
+            self._start()
         while self.pending:
             self._window(self.batch * self.spread)
+
+    def _start(self) -> None:
+        """Hand the batches to a worker process from now on, once ``remote_after`` cutters
+        were queued (at a full window, or at a flush: a path cut chunk by chunk, whose chunks
+        are flushed to be measured, may never fill one)."""
+        if self.remote is None and self.remote_after is not None and self.queued >= self.remote_after:
+            from vmach.stock.remote import Remote
+
+            try:
+                self.remote = Remote(self._solid, self._volume)
+            except (OSError, ValueError):   # no worker process here: the batches stay
+                self.remote_after = None
+            else:
+                self.remote.on_progress = self.on_progress
+                self._before = self.sent
+
+    def local(self, lo: np.ndarray, hi: np.ndarray) -> engine.Solid:
+        """The piece after every batch so far inside the box [lo, hi] (mm) — with a worker,
+        made there, so that only that part of it travels."""
+        if self.remote is not None:
+            return engine.from_arrays(*self.remote.local(lo, hi).get()[:2])
+        if np.any(self._box[0] > hi) or np.any(self._box[1] < lo):
+            return engine.empty()
+        return engine.intersect(self._solid, engine.box(lo, hi))
 
     def _window(self, window: int) -> None:
         take, self.pending = self.pending[:window], self.pending[window:]

@@ -13,7 +13,9 @@ batch, subtracted and checked as :func:`vmach.stock.batch.subtract_checked` does
 sent, each answered by ``("done", cutters subtracted so far)`` for a progress bar — and
 ``("snap", n)``, answered with the piece after every batch sent before it, its box,
 volume, the worker's boolean seconds and the first error (kind, message) if a batch failed
-(later batches are then skipped). All arrays in double precision (:func:`engine.to_arrays`),
+(later batches are then skipped); ``("local", n, lo, hi)`` the same for the piece's part
+inside the box [lo, hi] (what a checked run measures against, chunk by chunk: a few
+thousand triangles instead of the whole stock). All arrays in double precision (:func:`engine.to_arrays`),
 so the worker's batches are the caller's exactly.
 """
 
@@ -28,6 +30,8 @@ import threading
 import time
 import weakref
 from multiprocessing.connection import Connection
+
+import numpy as np
 
 from vmach.stock import engine
 from vmach.stock.batch import box_of, subtract_checked
@@ -77,6 +81,13 @@ class Remote:
         """Ask for the piece after every batch sent so far."""
         self._asked += 1
         self._out.put(("snap", self._asked))
+        return _Answer(self, self._asked)
+
+    def local(self, lo, hi) -> _Answer:
+        """Ask for the piece after every batch sent so far inside the box [lo, hi] (mm): its
+        answer is that part's (vertices, faces, box, volume)."""
+        self._asked += 1
+        self._out.put(("local", self._asked, np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)))
         return _Answer(self, self._asked)
 
     def poll(self) -> int:
@@ -157,10 +168,14 @@ def serve(conn: Connection) -> None:
                 error = ("stock_worker", f"the stock's worker process failed: {exc!r}")
             seconds += time.perf_counter() - t0
             conn.send(("done", done))
-        elif msg[0] == "snap":
-            arrays = engine.to_arrays(solid) if error is None else (None, None)
-            box = box_of(solid) if error is None else None
-            conn.send(("snap", msg[1], *arrays, box, volume, seconds, error))
+        elif msg[0] in ("snap", "local"):
+            part, vol = solid, volume
+            if msg[0] == "local" and error is None:
+                part = engine.intersect(solid, engine.box(msg[2], msg[3]))
+                vol = engine.volume(part)
+            arrays = engine.to_arrays(part) if error is None else (None, None)
+            box = box_of(part) if error is None else None
+            conn.send(("snap", msg[1], *arrays, box, vol, seconds, error))
 
 
 if __name__ == "__main__":

@@ -726,9 +726,7 @@ class Stock(CutterMaker):
             return engine.intersect(self._solid, engine.box(lo, hi))
         self._flush_cells()
         self._account()
-        box = engine.box(lo, hi)
-        return engine.union([engine.intersect(c.solid, box) for c in self._cells
-                             if np.all(c.box[0] <= hi) and np.all(c.box[1] >= lo)])
+        return engine.union([c.local(lo, hi) for c in self._cells])
 
     def removed(self) -> engine.Solid:
         """The removed material: blank minus part."""
