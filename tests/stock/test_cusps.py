@@ -201,6 +201,115 @@ def test_steps_are_measured_in_blocks_and_above_a_least_cusp_with_the_same_resul
     assert np.array_equal(above, np.where(whole > least, whole, 0.0))
 
 
+def test_steps_say_which_samples_are_over_and_fins_reach_the_highest_that_counts():
+    """step_cusps(reach=True): the samples over ``least`` in the material — each step's
+    largest is its cusp — with their heights; fin_height: the next sample height up above the
+    highest kept one, rounded up to 2^(1/4) steps from SPACING, inf from the tool's length."""
+    from vmach.stock.cusps import SPACING, fin_height
+
+    tool = Tool(name="cone", kind="chamfer", diameter=16.0, point_angle=150.0, cutting_length=4.0)
+    sd = side(tool)
+    tips, axes = turnmill(25.0, 0.0, 1.0, np.arange(0.0, 12.0, 2.0))
+    fr = frames(tips, axes)
+    everywhere = lambda p: np.ones(p.shape[:-1], bool)   # noqa: E731
+    c, over = step_cusps(sd, fr[:-1], fr[1:], everywhere, 0.0035, reach=True)
+    assert np.array_equal(c, step_cusps(sd, fr[:-1], fr[1:], everywhere, 0.0035))
+    assert len(over.step) > 0 and (over.cusp > 0.0035).all()
+    top = np.zeros(len(c))
+    np.maximum.at(top, over.step, over.cusp)
+    assert top == pytest.approx(c)
+    assert set(np.round(over.height, 9)) <= set(np.round(sd.points[:, 2], 9))
+    h = fin_height(over, len(c), 4.0)
+    for k in range(len(c)):
+        mine = over.height[over.step == k]
+        want = SPACING * 2.0 ** (np.ceil(4.0 * np.log2((mine.max() + SPACING) / SPACING) - 1e-9) / 4.0)
+        assert h[k] == pytest.approx(want if want < 4.0 else np.inf)
+    # samples left out (cut again by another pass) do not count: none kept -> SPACING
+    none = np.zeros(len(over.step), bool)
+    assert fin_height(over, len(c), 4.0, none) == pytest.approx(np.full(len(c), SPACING))
+    assert np.isinf(fin_height(over, len(c), 0.6)).all()
+    low = over.height < 1.0                                   # only the samples below 1 mm kept
+    assert fin_height(over, len(c), 4.0, low).max() <= SPACING * 2.0 ** (np.ceil(4 * np.log2(3.0)) / 4)
+
+
+class _Below:
+    """What another pass's sampled poses hold, as Stock.cut asks (Others.at_poses'
+    signature): every point below ``z`` by the margin (a stand-in for a later finishing pass
+    over the flank)."""
+
+    def __init__(self, z: float):
+        self.z = z
+
+    def __call__(self, groups, omega):
+        return np.zeros(len(groups), bool)
+
+    def at_poses(self, points, margin):
+        return np.asarray(points)[:, 2] + np.asarray(margin) < self.z
+
+
+def test_a_cones_added_fins_reach_only_the_cusps_no_other_pass_cuts(tmp_path, monkeypatch):
+    """The chamfer program's cone (its cusps over the tolerance near its tip, at the end
+    face, and on its land further out): told that another pass cuts everything below
+    z = -1.5 again, its added poses' fins stop at the highest sample over the tolerance
+    above that (the same poses); the part differs from whole-length fins' only there, where
+    it keeps more (a fin lies inside the true tool: never less)."""
+    from catalog import POLYGON_TOOLS
+
+    import vmach.stock.cusps as cusps_module
+    from interpreters import sinumerik
+    from vmach.machine import load_model
+    from vmach.motion.table import build
+    from vmach.stock.simulate import _between, sample_rows
+    from vmach.tooling import load_tools
+
+    path = tmp_path / "CHAMFER.MPF"
+    path.write_text(CHAMFER)
+    model = load_model("turnmill")
+    table = build(sinumerik.run(str(path), model.control).commands, model.control)
+    lib = load_tools(POLYGON_TOOLS)
+    tool = lib.lookup("GLOD D16_15")
+    axes_ = tuple(model.axes)
+    rot = np.array([table.rotary[table.axes.index(a)] if a in table.axes else False for a in axes_])
+    rows = np.nonzero(np.asarray(table.tool) >= 0)[0]
+    q0 = table.columns(axes_, model.home, table.start)[rows]
+    q1 = table.columns(axes_, model.home, table.end)[rows]
+    q, _ = sample_rows(q0, q1, rot, model.fk, 2.0, 1.0)
+    pose = model.fk(q)
+    below = Stock.from_spec("cylinder:d=60,l=20", cusp=0.0025)
+    below.cut(tool, pose.tip, pose.axis, _between(q, model.fk), _Below(-1.5))
+    monkeypatch.setattr(cusps_module, "fin_height",
+                        lambda over, steps, length, keep=None: np.full(steps, np.inf))
+    whole = Stock.from_spec("cylinder:d=60,l=20", cusp=0.0025)
+    whole.cut(tool, pose.tip, pose.axis, _between(q, model.fk), _Below(-1.5))
+    assert below.stats.cusp_poses == whole.stats.cusp_poses > 10
+    tall = [k[3] for k in below._fin_cache]
+    assert np.isfinite(tall).any() and max(t for t in tall if np.isfinite(t)) < tool.cutting_length
+    assert all(np.isinf(k[3]) for k in whole._fin_cache)
+    # what the shorter fins leave lies below z = -1.5; above it both parts differ by slivers
+    # no thicker than the fins' arcs (both lie within that sag of the true cone), both ways
+    more = engine.subtract(below.solid, [whole.solid])
+    less = engine.subtract(whole.solid, [below.solid])
+    top = engine.box([-40, -40, -1.5], [40, 40, 1])
+    above = engine.intersect(more, top)
+    assert engine.volume(more) - engine.volume(above) > 0.002
+    sag = 0.8 * 0.0025                                        # the fins' arcs (cutters._fin_piece)
+
+    def thickness(piece) -> float:
+        """The thickest of its sections' polygons (twice the area over the perimeter: a
+        sliver's width) at heights over the chamfer."""
+        widest = 0.0
+        for z in np.arange(-1.45, 0.0, 0.1):
+            for poly in engine.slice_polygons(piece, float(z)):
+                x, y = poly[:, 0], poly[:, 1]
+                area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+                perimeter = np.linalg.norm(np.diff(np.vstack([poly, poly[:1]]), axis=0), axis=1).sum()
+                widest = max(widest, 2.0 * area / perimeter)
+        return widest
+
+    assert thickness(above) < sag
+    assert thickness(less) < sag
+
+
 def _whole_poses(monkeypatch):
     """Cut every added pose whole (no fins)."""
     import vmach.stock.cutters as cutters_module

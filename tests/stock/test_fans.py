@@ -602,6 +602,38 @@ def test_recut_asks_for_a_margin_and_keeps_a_paths_own_pass_apart(library):
     assert again.recut(point, [10], z, np.array([0.0]), 50.0).tolist() == [True]
 
 
+def test_at_poses_holds_what_another_paths_sampled_poses_hold(library):
+    """Sweeps.at_poses: a point 0.01 mm above the D25's floor under one of its sampled poses'
+    axes is held by another path's poses with no margin, not with 0.02 mm, not below the
+    floor, not where the turn never reaches; never by the path itself (skip); and on random
+    points around the turn, only ever where one of the other path's sampled poses holds the
+    point (all of them asked), and most of those."""
+    from vmach.stock.sweeps import Sweeps, in_tool
+
+    tool = library.lookup("GLOD D25")
+    c = np.arange(0.0, 61.0, 1.713)
+    turn = _turn_motion(tool, 25.0, 0.0, -27.5, c)
+    sweeps = Sweeps([_turn_motion(tool, 30.0, 0.0, -60.0, c), turn])
+    a = np.radians(c[10])
+    pts = np.array([[26.0 * np.cos(a), 26.0 * np.sin(a), -39.99],
+                    [26.0 * np.cos(a), 26.0 * np.sin(a), -40.01],
+                    [26.0 * np.cos(np.radians(90.0)), 26.0 * np.sin(np.radians(90.0)), -35.0]])
+    assert sweeps.at_poses(pts, 0, np.zeros(3)).tolist() == [True, False, False]
+    assert sweeps.at_poses(pts, 0, np.full(3, 0.02)).tolist() == [False, False, False]
+    assert not sweeps.at_poses(pts, 1, np.zeros(3)).any()
+    assert sweeps.others(0).at_poses(pts, np.zeros(3)).tolist() == [True, False, False]
+    rng = np.random.default_rng(3)
+    phi = np.radians(rng.uniform(-5.0, 65.0, 400))
+    r = rng.uniform(24.0, 40.0, 400)
+    grid = np.column_stack([r * np.cos(phi), r * np.sin(phi), rng.uniform(-41.0, -14.0, 400)])
+    near = sweeps.at_poses(grid, 0, np.full(400, 0.01))
+    m = sweeps.motions[1]
+    every = in_tool(grid[:, None, :] - m.tips[None], m.axes[None], m.zs, m.rs, 0.01, 0.01).any(axis=1)
+    assert near.sum() > 100
+    assert not (near & ~every).any()
+    assert near.sum() >= 0.9 * every.sum()
+
+
 def test_a_crossing_off_the_tips_azimuth_is_found_in_the_wide_window(library):
     """The D25 8 mm off centre (Y = 8): its plane through the axis and the work Z passes a
     point on its axis at r = 30 when the tip's azimuth is 2.2° past the point's — beyond the

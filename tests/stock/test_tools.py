@@ -174,6 +174,42 @@ def test_a_fin_is_the_true_tool_within_a_slab_through_its_lateral(library, half)
     assert got == pytest.approx(area, rel=5e-4)               # the inscribed arcs: within 0.002 mm
 
 
+@pytest.mark.parametrize("height", [0.6, 1.0, 2.5, 3.9])
+def test_a_fin_cut_to_a_height_is_the_fin_below_it(library, height):
+    """fin_points(height=h): the fin (true tool within the slab) up to h mm from the tip — no
+    point above h, every point on the true surface or the ring at h, reaching the true
+    radius toward ±lateral at h, and its hull the whole fin's below h: as big as the whole
+    fin's points below h with its ring at h, and inside the whole fin but for the arcs' sag
+    (the ring's arc points lie on the true cone at other angles than the whole fin's)."""
+    import math
+
+    from vmach.stock import engine
+    from vmach.stock.cusps import fin_normal
+    from vmach.tooling.solid import exact_phase, fin_points
+
+    tool = library.lookup("GLOD D16_15")          # cone to 2.14 mm, then a cylindrical land to 4
+    ts = tool_solid(tool, 0.004, arcs=True)
+    half = 0.7
+    whole = fin_points(ts.pieces[0], ts.segments, half)
+    cut = fin_points(ts.pieces[0], ts.segments, half, height=height)
+    assert cut[:, 2].max() == pytest.approx(height, abs=1e-12)
+    prof = tool.profile(0.004)
+    want = np.interp(cut[:, 2], prof[:-1, 0], prof[:-1, 1])
+    assert np.hypot(cut[:, 0], cut[:, 1]) == pytest.approx(want, abs=1e-9)
+    assert np.abs(cut @ fin_normal(ts.segments)).max() <= half + 1e-9
+    alpha = math.pi / ts.segments - exact_phase(ts.segments)
+    lat = np.array([math.cos(alpha), math.sin(alpha), 0.0])
+    top = cut[np.abs(cut[:, 2] - height) < 1e-12]
+    assert (top @ lat).max() == pytest.approx(float(np.interp(height, prof[:-1, 0], prof[:-1, 1])), abs=1e-12)
+    a, b = engine.hull(whole), engine.hull(cut)
+    sag = 0.002                                      # fin_points' default
+    assert engine.volume(engine.subtract(b, [a])) < sag * 2.0 * half * 2.0 * tool.radius
+    below = engine.volume(engine.hull(np.vstack([whole[whole[:, 2] <= height], top])))
+    assert engine.volume(b) == pytest.approx(below, rel=1e-9)
+    assert engine.volume(b) < engine.volume(a)
+    assert len(fin_points(ts.pieces[0], ts.segments, half, height=-1.0)) == 0
+
+
 @pytest.mark.parametrize("chord", [0.01, 0.004])
 def test_a_prism_tools_rings_are_round_about_the_laterals(library, chord):
     """A flat or face mill's rings (the face's rim, and the side with it) are arcs of the

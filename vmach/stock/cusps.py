@@ -122,17 +122,29 @@ def cusp_height(spacing: np.ndarray, kappa: np.ndarray) -> np.ndarray:
     return np.where(kappa > 0, sag, 0.0)
 
 
-def step_cusps(sd: Side, frames_a: np.ndarray, frames_b: np.ndarray, holds, least: float = 0.0) -> np.ndarray:
+def step_cusps(sd: Side, frames_a: np.ndarray, frames_b: np.ndarray, holds, least: float = 0.0,
+               reach: bool = False):
     """(s,) mm: the largest cusp each step leaves between its two placed poses (frames
     (s, 3, 4) each, tool to work), over the side's sample points that may lie in the
     material at either end (``holds``: points (m, 3) -> (m,) bool, a superset of the stock).
-    Cusps of ``least`` or less count as 0: only points over it are looked up."""
+    Cusps of ``least`` or less count as 0: only points over it are looked up. With ``reach``,
+    (cusps, Over): those points over ``least`` that may lie in the material — where a pose
+    between needs to reach (:func:`fin_height`)."""
     if len(sd.points) == 0 or len(frames_a) == 0:
-        return np.zeros(len(frames_a))
+        none = np.zeros(len(frames_a))
+        return (none, Over.none()) if reach else none
     if len(frames_a) * len(sd.points) > BLOCK:
         k = max(1, BLOCK // len(sd.points))
-        return np.concatenate([step_cusps(sd, frames_a[i : i + k], frames_b[i : i + k], holds, least)
-                               for i in range(0, len(frames_a), k)])
+        parts = [step_cusps(sd, frames_a[i : i + k], frames_b[i : i + k], holds, least, reach)
+                 for i in range(0, len(frames_a), k)]
+        if reach:
+            over = [o for _, o in parts]
+            starts = np.cumsum([0] + [len(frames_a[i : i + k]) for i in range(0, len(frames_a), k)])
+            return (np.concatenate([c for c, _ in parts]),
+                    Over(*(np.concatenate(x) for x in zip(*[(o.step + s0, o.height, o.point, o.cusp)
+                                                            for o, s0 in zip(over, starts, strict=False)],
+                                                          strict=True))))
+        return np.concatenate(parts)
     rot, t = frames_a[:, :, :3], frames_a[:, :, 3]
     rel = np.matmul(rot.transpose(0, 2, 1), frames_b[:, :, :3])          # b in a's frame
     shift = np.einsum("sji,sj->si", rot, frames_b[:, :, 3] - t)
@@ -149,11 +161,49 @@ def step_cusps(sd: Side, frames_a: np.ndarray, frames_b: np.ndarray, holds, leas
     c = np.maximum(cusp_height(across, sd.across[None, :] + kw), cusp_height(down, sd.down[None, :] + kw))
     step, point = np.nonzero(c > least)
     out = np.zeros(len(frames_a))
+    over = Over.none()
     if len(step):
         pa = np.einsum("kij,kj->ki", rot[step], sd.points[point]) + t[step]
         pb = pa + np.einsum("kij,kj->ki", rot[step], d[step, point])
-        np.maximum.at(out, step, np.where(holds(pa) | holds(pb), c[step, point], 0.0))
-    return out
+        inside = holds(pa) | holds(pb)
+        np.maximum.at(out, step, np.where(inside, c[step, point], 0.0))
+        k = np.nonzero(inside)[0]
+        over = Over(step[k], sd.points[point[k], 2], 0.5 * (pa[k] + pb[k]), c[step[k], point[k]])
+    return (out, over) if reach else out
+
+
+@dataclass(frozen=True)
+class Over:
+    """Side samples whose cusp is over the tolerance (:func:`step_cusps`): their step (k,)
+    int, height along the axis from the tip (k,) mm, the point midway along its travel over
+    the step (k, 3) mm, work frame, and the cusp (k,) mm."""
+
+    step: np.ndarray
+    height: np.ndarray
+    point: np.ndarray
+    cusp: np.ndarray
+
+    @classmethod
+    def none(cls) -> Over:
+        return cls(np.zeros(0, int), np.zeros(0), np.zeros((0, 3)), np.zeros(0))
+
+
+def fin_height(over: Over, steps: int, length: float, keep: np.ndarray | None = None) -> np.ndarray:
+    """(steps,) mm: how far along the axis (from the tip) the fins of each step's added poses
+    reach: from the greatest height of its samples over the tolerance (``over``; only those
+    ``keep`` (k,) bool marks — e.g. not cut again by another pass), the next sample height up
+    (SPACING along the profile), rounded up to steps of 2^(1/4) from SPACING so that poses
+    share their fin pieces; inf (the whole length) where that reaches ``length``, the tool's
+    cutting length. Above it every sampled cusp that counts is within the tolerance without
+    the added poses: the pose's fin holds nothing there that its neighbours' imprints leave
+    over it."""
+    top = np.full(steps, -np.inf)
+    k = np.ones(len(over.step), bool) if keep is None else np.asarray(keep, bool)
+    np.maximum.at(top, over.step[k], over.height[k])
+    h = np.maximum(top, 0.0) + SPACING
+    step = np.ceil(4.0 * np.log2(h / SPACING) - 1e-9)
+    out = SPACING * 2.0 ** (step / 4.0)
+    return np.where(out < length, out, np.inf)
 
 
 def substeps(cusps: np.ndarray, most: float = tol.sweep_cusp) -> np.ndarray:
@@ -173,7 +223,7 @@ def fin_normal(segments: int) -> np.ndarray:
 
 
 def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, normal: np.ndarray,
-               parts: np.ndarray, sd: Side, holds, face: float = 0.0) -> np.ndarray:
+               parts: np.ndarray, sd: Side, holds, face: float = 0.0, height=None) -> np.ndarray:
     """(e,) mm: half-widths of the fins that cut added poses (:func:`vmach.tooling.solid.fin_points`).
 
     An added pose (frames (e, 3, 4), tool to work) removes, beyond its neighbouring poses,
@@ -196,7 +246,9 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
       whole polygons, which reach the true radius φ* off their meridian, on one side.
 
     Only envelope points that may lie in the material count (``holds``: points (m, 3) ->
-    (m,) bool). The sum, taken 25 % larger, plus ρ·(2π/AROUND)²/8 for the linear zero and
+    (m,) bool), and with ``height`` (e,) mm (:func:`fin_height`) only those up to that height
+    along the axis: the fin is cut there (:func:`vmach.tooling.solid.fin_points`). The sum,
+    taken 25 % larger, plus ρ·(2π/AROUND)²/8 for the linear zero and
     0.05 mm, is the half-width; 0.05 mm where no envelope point counts. For a flat-faced tool
     (``face``: the face's radius, mm) at least the face's chord RIM from its rim: the face makes
     a flank's foot there over its whole chord. A fin lies inside the true tool at its pose: a
@@ -207,7 +259,9 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
     if e * len(sd.points) > BLOCK:
         k = max(1, BLOCK // len(sd.points))
         return np.concatenate([fin_widths(frames[i : i + k], frames_a[i : i + k], frames_b[i : i + k], normal,
-                                          parts[i : i + k], sd, holds, face) for i in range(0, e, k)])
+                                          parts[i : i + k], sd, holds, face,
+                                          None if height is None else height[i : i + k])
+                               for i in range(0, e, k)])
     pts = sd.points                                                  # (P, 3): AROUND per height
     rho = np.hypot(pts[:, 0], pts[:, 1])
     radial = pts[:, :2] / rho[:, None]
@@ -234,6 +288,8 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
     if len(step):
         point = ring * AROUND + i
         inside = holds(np.einsum("kij,kj->ki", rot[step], pts[point]) + t[step])
+        if height is not None:
+            inside &= pts[point, 2] <= np.asarray(height, dtype=float)[step]
         step, ring, i, point = step[inside], ring[inside], i[inside], point[inside]
         g0, g1 = g[step, ring, i], g1[step, ring, i]
         base = np.arctan2(pts[point, 1], pts[point, 0])

@@ -281,10 +281,10 @@ class CutterMaker:
         """Cutters of one stretch, in this process, each trimmed to the box around the stock
         within its Z range (:meth:`_boxes`)."""
         made: list[tuple[engine.Solid, np.ndarray]] = []
-        for k, fr, runs, fan_jobs, col_jobs, fins in jobs:
+        for k, fr, runs, fan_jobs, col_jobs, fins, tall in jobs:
             made += self._make_columns(ts, col_jobs)
             made += self._make_fans(ts, fan_jobs)
-            made += self._make_placed(ts, k, fr, fins)
+            made += self._make_placed(ts, k, fr, fins, tall)
             made += self._make_runs(ts, k, runs)
         return [c for c, _ in made], [b for _, b in made]
 
@@ -305,35 +305,45 @@ class CutterMaker:
                                      trimmed[starts[f] : starts[f + 1]], path)
         return out
 
-    def _make_placed(self, ts: ToolSolid, k: int, fr: np.ndarray,
-                     fins: np.ndarray | None = None) -> list[tuple[engine.Solid, np.ndarray]]:
+    def _make_placed(self, ts: ToolSolid, k: int, fr: np.ndarray, fins: np.ndarray | None = None,
+                     tall: np.ndarray | None = None) -> list[tuple[engine.Solid, np.ndarray]]:
         """Piece k placed at poses fr (m, 3, 4), trimmed; where ``fins`` (m,) float is finite,
-        only the pose's fin of that half-width (mm; :func:`vmach.stock.cusps.fin_widths`)."""
+        only the pose's fin of that half-width (mm; :func:`vmach.stock.cusps.fin_widths`), up
+        to the height ``tall`` (m,) mm along the axis (inf: the whole length;
+        :func:`vmach.stock.cusps.fin_height`)."""
         if len(fr) == 0:
             return []
         if fins is None or not np.isfinite(fins).any():
             return self._placed(ts.pieces[k], self._tool_shapes(ts)[k], self._tool_pieces(ts)[k], fr)
         half = _fin_bucket(np.asarray(fins, dtype=float), ts.radius)
+        tall = np.full(len(fr), np.inf) if tall is None else np.asarray(tall, dtype=float)
         out = self._placed(ts.pieces[k], self._tool_shapes(ts)[k], self._tool_pieces(ts)[k],
                            fr[~np.isfinite(half)])
-        for h in np.unique(half[np.isfinite(half)]):
-            out += self._placed(*self._fin_piece(ts, k, float(h)), fr[half == h])
+        fin = np.isfinite(half)
+        for h, t in np.unique(np.column_stack([half[fin], tall[fin]]), axis=0):
+            piece = self._fin_piece(ts, k, float(h), float(t))
+            if piece is not None:          # (None: piece k lies wholly above the height)
+                out += self._placed(*piece, fr[fin][(half[fin] == h) & (tall[fin] == t)])
         return out
 
-    def _fin_piece(self, ts: ToolSolid, k: int, half: float) -> tuple[np.ndarray, Shape, engine.Solid]:
+    def _fin_piece(self, ts: ToolSolid, k: int, half: float, height: float = np.inf
+                   ) -> tuple[np.ndarray, Shape, engine.Solid] | None:
         """(points, Shape, Solid) that cut a pose of piece k as its fin, tool frame (cached):
         of half-width ``half`` mm — the true tool within that slab about the plane through its
-        axis and the lateral direction placed poses are turned for
+        axis and the lateral direction placed poses are turned for, up to ``height`` mm from
+        the tip (None where the piece lies above it)
         (:func:`vmach.tooling.solid.fin_points`; its arcs within 0.8 of the stock's ``cusp``
         of the true circles, and within ``RIM_SAG``: 0.0006 mm at ``fine`` made the program's
         stock 68,000 → 76,000 triangles and took 19.5 → 21.7 s; at ``standard``, 0.008 mm left
         the shoulder 0.012 mm high where the turn's own poses were cut as fins)."""
-        key = (id(ts), k, half)
+        key = (id(ts), k, half, height)
         if key not in self._fin_cache:
             # within 0.8 of the cusp they are to leave, and no coarser than a whole pose about its
             # lateral (a pose between two rotary steps is cut as its fin too, Stock._inner_fins)
-            pts = fin_points(ts.pieces[k], ts.segments, half, sag=min(0.8 * self.cusp, RIM_SAG))
-            self._fin_cache[key] = (pts, shape(*engine.hull_mesh(pts)), engine.hull(pts))
+            pts = fin_points(ts.pieces[k], ts.segments, half, sag=min(0.8 * self.cusp, RIM_SAG),
+                             height=height)
+            flat = len(pts) < 4 or np.ptp(pts[:, 2]) <= 1e-9
+            self._fin_cache[key] = None if flat else (pts, shape(*engine.hull_mesh(pts)), engine.hull(pts))
         return self._fin_cache[key]
 
     def _placed(self, points: np.ndarray, sh: Shape, solid: engine.Solid,

@@ -344,15 +344,17 @@ class Stock(CutterMaker):
         path = (tips, unit)                       # what else the path cuts
         key = poses.astype(float)                 # where each placed pose lies along the path
         fins = np.full(len(fr), np.inf)           # poses cut as their fin only (cusps.fin_widths)
+        tall = np.full(len(fr), np.inf)           # ... up to this height along the axis
         if self.trim and isinstance(tool, Tool):
             fins = self._inner_fins(tool, ts, fr, rotary, fan_runs, poses)
         if between is not None and self.trim and isinstance(tool, Tool):
-            more, at, half = self._cusp_poses(tool, ts, tips, fr, rotary, fan_runs, between, others)
+            more, at, half, height = self._cusp_poses(tool, ts, tips, fr, rotary, fan_runs, between, others)
             if len(more):
                 poses = np.r_[poses, len(fr) + np.arange(len(more))]
                 key = np.r_[key, at]
                 fr = np.concatenate([fr, more])
                 fins = np.r_[fins, half]
+                tall = np.r_[tall, height]
                 self.stats.cusp_fins += int(np.isfinite(cutters._fin_bucket(half, ts.radius)).sum())
         start = np.concatenate([key, [runs[g, 0].min() for g in groups], fans.runs[:, 0],
                                 [c.cells[0, 0] for c in cols]])
@@ -373,7 +375,7 @@ class Stock(CutterMaker):
             sizes = np.cumsum([0] + [len(g) for g in chunk_groups])
             run_fr = [flat[sizes[i] : sizes[i + 1]] for i in range(len(chunk_groups))]
             jobs = [(k, fr[chunk_poses], run_fr, fan_jobs if k == 0 else [], col_jobs if k == 0 else [],
-                     fins[chunk_poses]) for k in range(len(ts.pieces))]
+                     fins[chunk_poses], tall[chunk_poses]) for k in range(len(ts.pieces))]
             self.stats.sweep_seconds += time.perf_counter() - t0
             yield ts, jobs
             t0 = time.perf_counter()
@@ -413,8 +415,11 @@ class Stock(CutterMaker):
         the true tools sweep (``others``: :class:`vmach.stock.sweeps.Others`), where its
         rim's feet would (:func:`vmach.stock.feet.parts`): frames (e, 3, 4) — turned as
         placed poses are — their places along the path (e,) float (step + fraction) and the
-        half-widths (e,) mm of the fins that cut them (:func:`vmach.stock.cusps.fin_widths`)."""
-        none = np.zeros((0, 3, 4)), np.zeros(0), np.zeros(0)
+        half-widths (e,) mm of the fins that cut them (:func:`vmach.stock.cusps.fin_widths`)
+        and their heights (e,) mm along the axis (:func:`vmach.stock.cusps.fin_height`: up to
+        the cusps over the tolerance; inf — the whole length — for a flat-faced prism, whose
+        rim's feet lie at its face and whose fins cost the same at any length)."""
+        none = np.zeros((0, 3, 4)), np.zeros(0), np.zeros(0), np.zeros(0)
         steps = _placed_steps(rotary, fan_runs)
         # steps whose tool may reach the stock's bounds at all
         lo, hi = self.bounds
@@ -424,7 +429,12 @@ class Stock(CutterMaker):
         sd = cusps.side(tool)
         if len(idx) == 0 or len(sd.points) == 0:
             return none
-        parts = cusps.substeps(cusps.step_cusps(sd, fr[idx], fr[idx + 1], self._holds, self.cusp), self.cusp)
+        c, over = cusps.step_cusps(sd, fr[idx], fr[idx + 1], self._holds, self.cusp, reach=True)
+        height = np.full(len(idx), np.inf)
+        if self._prism(ts) is None:
+            keep = self._not_recut(over, fr, idx, ts, others)
+            height = cusps.fin_height(over, len(idx), ts.length, keep)
+        parts = cusps.substeps(c, self.cusp)
         if others is not None and hasattr(others, "recut") and self._prism(ts) is not None:
             more = feet.parts(tool, ts, fr, idx, self.cusp, self.chord, self._holds, others, between)
             self.stats.foot_steps += int((more > 1).sum())
@@ -436,11 +446,23 @@ class Stock(CutterMaker):
         unit = np.asarray(ax, dtype=float) / np.linalg.norm(ax, axis=1, keepdims=True)
         step = np.repeat(idx[need], parts[need] - 1)
         more = spun(frames(t, unit), across(unit, tips[step + 1] - tips[step]), ts.segments)
+        height = np.repeat(height[need], parts[need] - 1)
         half = cusps.fin_widths(more, fr[step], fr[step + 1], cusps.fin_normal(ts.segments),
                                 np.repeat(parts[need], parts[need] - 1), sd, self._holds,
-                                cusps.face_radius(tool))
+                                cusps.face_radius(tool), height)
         self.stats.cusp_poses += len(t)
-        return more, np.asarray(at, dtype=float), half
+        return more, np.asarray(at, dtype=float), half, height
+
+    def _not_recut(self, over: cusps.Over, fr: np.ndarray, idx: np.ndarray, ts: ToolSolid,
+                   others) -> np.ndarray | None:
+        """(k,) bool: the samples over the cusp tolerance (``over``, of the steps ``idx``)
+        that no other path cuts again — none of its sampled poses near them, which every cutter
+        holds whole, holding the point by the cusp and the tool chord
+        (:meth:`vmach.stock.sweeps.Sweeps.at_poses`); None (all) without ``others``. The added
+        poses' fins need reach only those (:func:`vmach.stock.cusps.fin_height`)."""
+        if others is None or not hasattr(others, "at_poses") or len(over.step) == 0:
+            return None
+        return ~others.at_poses(over.point, over.cusp + self.chord)
 
     def _inner_fins(self, tool: Tool, ts: ToolSolid, fr: np.ndarray, rotary: np.ndarray, fan_runs: np.ndarray,
                     poses: np.ndarray) -> np.ndarray:

@@ -57,6 +57,7 @@ class Sweeps:
         self.travel = [np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(m.tips, axis=0), axis=1))]
                        for m in self.motions]
         self._indexes: dict[tuple, _Index | None] = {}
+        self._trees: dict[int, object] = {}
 
     def _index(self, j: int, om: np.ndarray) -> _Index | None:
         """Path j's :class:`_Index` about ``om``, made once (a path cut in chunks asks often)."""
@@ -64,6 +65,32 @@ class Sweeps:
         if key not in self._indexes:
             self._indexes[key] = _index(self.motions[j], om)
         return self._indexes[key]
+
+    def at_poses(self, points: np.ndarray, skip: int, margin: np.ndarray, near: int = 8) -> np.ndarray:
+        """(p,) bool: points (p, 3) inside the true tool, by ``margin`` (p,) mm, at one of the
+        ``near`` sampled poses nearest them (by the tip) of a path but ``skip`` — poses every
+        cutter holds whole. Only ever too few: a point some farther pose holds is not found."""
+        from scipy.spatial import cKDTree
+
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        out = np.zeros(len(points), bool)
+        mg = np.maximum(np.asarray(margin, dtype=float), 1e-6)
+        for j, m in enumerate(self.motions):
+            if j == skip or len(m.tips) == 0 or out.all():
+                continue
+            if j not in self._trees:
+                self._trees[j] = cKDTree(m.tips)
+            left = np.nonzero(~out)[0]
+            k = min(near, len(m.tips))
+            reach = float(m.zs[-1]) + float(m.rs.max())
+            dist, idx = self._trees[j].query(points[left], k=k, distance_upper_bound=reach)
+            dist, idx = dist.reshape(len(left), k), idx.reshape(len(left), k)
+            ok = np.isfinite(dist)
+            idx = np.where(ok, idx, 0)
+            inside = in_tool(points[left][:, None, :] - m.tips[idx], m.axes[idx], m.zs, m.rs,
+                             mg[left][:, None], mg[left][:, None]) & ok
+            out[left[inside.any(axis=1)]] = True
+        return out
 
     def others(self, path: int) -> Others:
         """What every path but ``path`` sweeps, as that path's cuts ask (:class:`Others`)."""
@@ -127,6 +154,10 @@ class Others:
 
     def __call__(self, groups: np.ndarray, omega: np.ndarray) -> np.ndarray:
         return self.sweeps.holds_all(groups, omega, skip=self.path)
+
+    def at_poses(self, points: np.ndarray, margin: np.ndarray) -> np.ndarray:
+        """Points another path's sampled poses hold (:meth:`Sweeps.at_poses`)."""
+        return self.sweeps.at_poses(points, self.path, margin)
 
     def shifted(self, offset: int) -> Others:
         """The same for a stretch of the path given from its pose ``offset`` on."""

@@ -200,7 +200,8 @@ def lateral_arcs(r: float, segments: int, arc: float, sag: float = RIM_SAG) -> n
     return np.concatenate(out)
 
 
-def fin_points(piece: np.ndarray, segments: int, half: float, sag: float = 0.002) -> np.ndarray:
+def fin_points(piece: np.ndarray, segments: int, half: float, sag: float = 0.002,
+               height: float = math.inf) -> np.ndarray:
     """Points (q, 3), tool frame, whose hull is the *true* tool of a polygonised piece (its
     vertices (p, 3) from :func:`ring_points` with ``segments``) within the slab
     ``|x·m| <= half`` mm about the plane through the axis and the lateral direction that
@@ -211,7 +212,9 @@ def fin_points(piece: np.ndarray, segments: int, half: float, sag: float = 0.002
     rings of different radius (a cone), where the slab's planes cut the surface in curves,
     their points on rings 1.4 apart in radius from ``half`` (the whole ring there). The hull
     lies inside the true tool (never beyond it: a cone is ruled, its rings' hull is itself)
-    and reaches the true radius toward ±lateral."""
+    and reaches the true radius toward ±lateral. With a finite ``height`` (mm from the tip
+    along the axis), only the part of it up to that height: the rings above it left out and
+    a whole ring (its arcs too) put at that height on the piece's surface."""
     alpha = lateral_angle(segments)
     pts = np.asarray(piece, dtype=float)
     scale = 1.0 / straddle_radius(1.0, segments)                  # r_v -> the true radius
@@ -219,6 +222,8 @@ def fin_points(piece: np.ndarray, segments: int, half: float, sag: float = 0.002
              for z in np.unique(pts[:, 2])]
     rings = [(z, r, True) for z, r in given]           # (z, r, whole arc) — and between:
     for (z0, r0), (z1, r1) in zip(given[:-1], given[1:], strict=True):
+        if z0 < height < z1:                           # the top of a fin cut to a height
+            rings.append((height, r0 + (r1 - r0) * (height - z0) / (z1 - z0), True))
         lo, hi = sorted((r0, r1))
         if hi - lo <= 1e-9 or half >= hi:
             continue
@@ -230,6 +235,8 @@ def fin_points(piece: np.ndarray, segments: int, half: float, sag: float = 0.002
             r *= 1.4
     out = []
     for z, r, arc in rings:
+        if z > height:
+            continue
         if r <= 1e-12:
             out.append(np.array([[0.0, 0.0, z]]))
             continue
@@ -244,7 +251,7 @@ def fin_points(piece: np.ndarray, segments: int, half: float, sag: float = 0.002
             side = np.linspace(-beta, beta, k)
             ang = np.concatenate([alpha + side, alpha + math.pi + side])
         out.append(np.column_stack([r * np.cos(ang), r * np.sin(ang), np.full(len(ang), z)]))
-    return np.concatenate(out)
+    return np.concatenate(out) if out else np.zeros((0, 3))
 
 
 def _is_prism(run: np.ndarray) -> bool:
