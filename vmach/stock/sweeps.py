@@ -29,6 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 #: points tested against the poses of a path at a time (bounds the (points, poses) arrays)
 BLOCK = 1 << 20
@@ -57,7 +58,7 @@ class Sweeps:
         self.travel = [np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(m.tips, axis=0), axis=1))]
                        for m in self.motions]
         self._indexes: dict[tuple, _Index | None] = {}
-        self._trees: dict[int, object] = {}
+        self._trees: dict[int, cKDTree] = {}      # each path's tips, for at_poses
 
     def _index(self, j: int, om: np.ndarray) -> _Index | None:
         """Path j's :class:`_Index` about ``om``, made once (a path cut in chunks asks often)."""
@@ -70,8 +71,6 @@ class Sweeps:
         """(p,) bool: points (p, 3) inside the true tool, by ``margin`` (p,) mm, at one of the
         ``near`` sampled poses nearest them (by the tip) of a path but ``skip`` — poses every
         cutter holds whole. Only ever too few: a point some farther pose holds is not found."""
-        from scipy.spatial import cKDTree
-
         points = np.asarray(points, dtype=float).reshape(-1, 3)
         out = np.zeros(len(points), bool)
         mg = np.maximum(np.asarray(margin, dtype=float), 1e-6)
