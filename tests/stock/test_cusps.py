@@ -192,8 +192,14 @@ def test_steps_are_measured_in_blocks_and_above_a_least_cusp_with_the_same_resul
     fr = frames(tips, axes)
     everywhere = lambda p: np.ones(p.shape[:-1], bool)   # noqa: E731
     whole = step_cusps(sd, fr[:-1], fr[1:], everywhere)
+    _, over = step_cusps(sd, fr[:-1], fr[1:], everywhere, 0.001, reach=True)
     monkeypatch.setattr(cusps_module, "BLOCK", 3 * len(sd.points))
     assert np.array_equal(step_cusps(sd, fr[:-1], fr[1:], everywhere), whole)
+    _, blocked = step_cusps(sd, fr[:-1], fr[1:], everywhere, 0.001, reach=True)
+    assert len(over.step) > 0 and over.step.max() >= 3           # samples beyond the first block
+    for a, b in zip((over.step, over.height, over.point, over.cusp),
+                    (blocked.step, blocked.height, blocked.point, blocked.cusp), strict=True):
+        assert np.array_equal(a, b)
     assert whole.min() > 0
     # only cusps over `least` are looked up; the rest count as none
     least = float(np.median(whole))

@@ -135,16 +135,14 @@ def step_cusps(sd: Side, frames_a: np.ndarray, frames_b: np.ndarray, holds, leas
         return (none, Over.none()) if reach else none
     if len(frames_a) * len(sd.points) > BLOCK:
         k = max(1, BLOCK // len(sd.points))
+        starts = range(0, len(frames_a), k)
         parts = [step_cusps(sd, frames_a[i : i + k], frames_b[i : i + k], holds, least, reach)
-                 for i in range(0, len(frames_a), k)]
-        if reach:
-            over = [o for _, o in parts]
-            starts = np.cumsum([0] + [len(frames_a[i : i + k]) for i in range(0, len(frames_a), k)])
-            return (np.concatenate([c for c, _ in parts]),
-                    Over(*(np.concatenate(x) for x in zip(*[(o.step + s0, o.height, o.point, o.cusp)
-                                                            for o, s0 in zip(over, starts, strict=False)],
-                                                          strict=True))))
-        return np.concatenate(parts)
+                 for i in starts]
+        if not reach:
+            return np.concatenate(parts)
+        rows = [(o.step + i, o.height, o.point, o.cusp) for i, (_, o) in zip(starts, parts, strict=True)]
+        return (np.concatenate([c for c, _ in parts]),
+                Over(*(np.concatenate(x) for x in zip(*rows, strict=True))))
     rot, t = frames_a[:, :, :3], frames_a[:, :, 3]
     rel = np.matmul(rot.transpose(0, 2, 1), frames_b[:, :, :3])          # b in a's frame
     shift = np.einsum("sji,sj->si", rot, frames_b[:, :, 3] - t)

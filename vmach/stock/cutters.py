@@ -323,7 +323,7 @@ class CutterMaker:
         for h, t in np.unique(np.column_stack([half[fin], tall[fin]]), axis=0):
             piece = self._fin_piece(ts, k, float(h), float(t))
             if piece is not None:          # (None: piece k lies wholly above the height)
-                out += self._placed(*piece, fr[fin][(half[fin] == h) & (tall[fin] == t)])
+                out += self._placed(*piece, fr[fin & (half == h) & (tall == t)])
         return out
 
     def _fin_piece(self, ts: ToolSolid, k: int, half: float, height: float = np.inf

@@ -53,7 +53,7 @@ class Remote:
         # is inside a boolean (sending releases the GIL)
         self._sender = threading.Thread(target=self._send_loop, daemon=True)
         self._sender.start()
-        self._asked = 0                 # snapshots asked for
+        self._asked = 0                 # answers asked for (snapshots and boxes' pieces)
         self._answers: dict[int, tuple] = {}
         self.seconds = 0.0              # the worker's boolean time as of its last answer
         self.wait_seconds = 0.0         # time spent waiting for answers
