@@ -651,6 +651,46 @@ def test_a_crossing_off_the_tips_azimuth_is_found_in_the_wide_window(library):
     assert Sweeps([motion]).holds(point, z).tolist() == [True]
 
 
+def test_a_paths_one_long_move_is_indexed_apart_and_no_crossing_is_lost(library):
+    """A turn of the D25 (1.713° steps at X = 25, Y = 0.5 off centre) that ends in one long
+    move — the axis turned 9° more while the tool rises 60 mm — is indexed in two parts: the
+    turn's steps searched with their own window and heights, the long move alone with its
+    own. No crossing where a point lies inside the tool is lost: on random points about the
+    turn, :func:`_crossings` finds every (point, step) pair that a search of every step
+    finds (the tool's plane crossing the point, the point inside the true tool there)."""
+    from vmach.stock.sweeps import WINDOWS, _crossings, _index, _inside
+
+    tool = library.lookup("GLOD D25")
+    c = np.r_[np.arange(0.0, 61.0, 1.713), 70.0]
+    z = np.r_[np.full(len(c) - 1, -27.5), 32.5]
+    motion = _turn_motion(tool, 25.0, 0.5, z, c)
+    om = np.array([0.0, 0.0, 1.0])
+    parts = _index(motion, om)
+    assert len(parts) == 2
+    assert [len(p.order) for p in parts] == [len(c) - 2, 1]
+    assert parts[0].span < parts[1].span and parts[0].turn < parts[1].turn
+    rng = np.random.default_rng(7)
+    phi = np.radians(rng.uniform(-5.0, 75.0, 600))
+    r = rng.uniform(22.0, 40.0, 600)
+    pts = np.column_stack([r * np.cos(phi), r * np.sin(phi), rng.uniform(-45.0, 40.0, 600)])
+    pi, i = _crossings(motion, pts, om, WINDOWS[-1], parts)
+    held = _inside(motion, pts, om, pi, i)
+    found = set(zip(pi[held].tolist(), i[held].tolist(), strict=True))
+    # every pair, searched without windows or bins
+    ap, ai = np.meshgrid(np.arange(len(pts)), np.arange(len(c) - 1), indexing="ij")
+    ap, ai = ap.ravel(), ai.ravel()
+    t = np.cross(om, motion.axes)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    f0 = np.einsum("ij,ij->i", pts[ap] - motion.tips[ai], t[ai])
+    f1 = np.einsum("ij,ij->i", pts[ap] - motion.tips[ai + 1], t[ai + 1])
+    cross = f0 * f1 <= 0.0
+    ap, ai = ap[cross], ai[cross]
+    held = _inside(motion, pts, om, ap, ai)
+    every = set(zip(ap[held].tolist(), ai[held].tolist(), strict=True))
+    assert len(every) > 100
+    assert every == found
+
+
 def test_a_rim_band_another_paths_tool_sweeps_is_fanned(library):
     """The D25 3 mm off the contact point at X = 26 leaves a foot at its face's rim, so its
     steps are not fanned (test_fans_keep_the_foot_a_face_rim_leaves) — unless another path's
