@@ -176,9 +176,10 @@ class Others:
 #: omega, in which a point's crossings are looked for, narrow first: a tool's plane through
 #: its axis and omega passes a point near the tip's azimuth (a crossing outside the widest is
 #: missed: a rim taken for not swept, never the other way). Most points held are held
-#: within 1° (the program's finishing cutter: half of its crossings lie within 0.4°, some up
-#: to 5.5°, off-centre as its Y is); the wide window is searched only for the points the
-#: narrow one leaves, a quarter as many candidates to sift first.
+#: within 1.5° (the program's finishing cutter: half of its crossings lie within 0.4°, some up
+#: to 6.6°, off-centre as its Y is); the wide window is searched only for the points the
+#: narrow one leaves. Each is widened by half the largest turn of a step in the index part
+#: searched (:func:`_index`; the program's finishing turns: 1.1°).
 WINDOWS = (np.radians(1.5), np.radians(7.5))
 
 
