@@ -290,20 +290,22 @@ def _crossings(m: Motion, points: np.ndarray, om: np.ndarray, window: float = WI
     if ix is None or len(points) == 0:
         return none
     reach = float(m.zs[-1]) + float(m.rs.max())
+    # the points' azimuth about omega (every part shares the frame e1, e2)
+    pphi = np.mod(np.arctan2(points @ ix[0].e2, points @ ix[0].e1), 2.0 * np.pi)
     out_p, out_i = [], []
     for part in ix:
-        _part_crossings(m, points, om, window, part, reach, out_p, out_i)
+        _part_crossings(m, points, pphi, om, window, part, reach, out_p, out_i)
     if not out_p:
         return none
     return np.concatenate(out_p), np.concatenate(out_i)
 
 
-def _part_crossings(m: Motion, points: np.ndarray, om: np.ndarray, window: float, ix: _Index,
-                    reach: float, out_p: list, out_i: list) -> None:
-    """:func:`_crossings` over one index part, appending to ``out_p``, ``out_i``."""
-    t, e1, e2, key, order, size, span = ix.t, ix.e1, ix.e2, ix.key, ix.order, ix.size, ix.span
+def _part_crossings(m: Motion, points: np.ndarray, pphi: np.ndarray, om: np.ndarray, window: float,
+                    ix: _Index, reach: float, out_p: list, out_i: list) -> None:
+    """:func:`_crossings` over one index part (``pphi`` (p,): the points' azimuth about
+    omega in its frame), appending to ``out_p``, ``out_i``."""
+    t, key, order, size, span = ix.t, ix.key, ix.order, ix.size, ix.span
     wide = window + ix.turn
-    pphi = np.mod(np.arctan2(points @ e2, points @ e1), 2.0 * np.pi)
     pb = np.floor((points @ om) / size).astype(np.int64)
     for k in range(-span, span + 1):
         base = (pb + k) * 8
