@@ -2,17 +2,19 @@
 
 from __future__ import annotations
 
+import gc
 import socket
 import threading
 from multiprocessing.connection import Connection
 
 import numpy as np
 import pytest
+from threadpoolctl import threadpool_info, threadpool_limits
 
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
 from vmach.stock.batch import Piece
-from vmach.stock.remote import serve
+from vmach.stock.remote import BLAS, serve
 
 
 def _cutters(n: int, seed: int = 0) -> list:
@@ -111,6 +113,7 @@ def test_a_stock_gives_the_same_part_with_a_worker_and_without(face40):
     assert (n1, b1) == (n0, b0) and n0 > 64
     assert v1 == pytest.approx(v0, rel=1e-12)
     assert v0 < np.pi * 30.0 ** 2 * 60.0 - 1000.0
+    s1.close()
 
 
 def test_without_a_worker_process_the_batches_stay_in_this_process(monkeypatch):
@@ -176,3 +179,41 @@ def test_a_flush_hands_the_batches_to_the_worker_and_it_answers_for_a_box_alone(
         assert engine.is_empty(local.local(lo + 100.0, hi + 100.0))
     finally:
         remote.close()
+
+
+def _blas_threads() -> list[int]:
+    return [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+
+
+def test_while_a_worker_runs_this_processs_blas_keeps_to_one_thread():
+    """The main process's BLAS runs one thread while any piece's worker runs (its idle
+    threads would spin on the worker's core), counted over overlapping pieces, and is given
+    back as it was when the last one closes; a piece without a worker leaves it alone."""
+    gc.collect()                                        # pieces other tests dropped
+    assert BLAS.holders == 0
+    blank = engine.cylinder(30.0, -20.0, 0.0, 64)
+    cutters = _cutters(8)
+    with threadpool_limits(limits=2, user_api="blas"):   # two threads, whatever the machine
+        assert _blas_threads() and set(_blas_threads()) == {2}
+        local = Piece(blank, batch=4, spread=1)
+        local.add(cutters[:4])
+        assert set(_blas_threads()) == {2}
+        a = Piece(blank, batch=4, spread=1, remote_after=0)
+        b = Piece(blank, batch=4, spread=1, remote_after=0)
+        try:
+            a.add(cutters[:4])
+            assert a.remote is not None and set(_blas_threads()) == {1}
+            b.add(cutters[4:])
+            a.close()
+            assert set(_blas_threads()) == {1}          # b's worker still runs
+            b.close()
+            assert set(_blas_threads()) == {2}
+            c = Piece(blank, batch=4, spread=1, remote_after=0)
+            c.add(cutters[:4])
+            assert set(_blas_threads()) == {1}
+            del c                                       # collected without close: given back
+            gc.collect()
+            assert set(_blas_threads()) == {2}
+        finally:
+            a.close()
+            b.close()
