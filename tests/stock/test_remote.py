@@ -54,6 +54,31 @@ def test_a_worker_subtracts_the_same_batches_to_the_same_piece():
     assert remote.wait_seconds > 0.0 and local.wait_seconds == 0.0      # kept once closed
 
 
+def test_runs_reach_the_worker_before_their_window_fills():
+    """Each run of ``group`` cutters goes to the worker as soon as it is made (to be united
+    while the window fills); a worker started in the middle of a window is sent the window's
+    runs made before it. The same batches and volume as in process."""
+    blank = engine.cylinder(30.0, -20.0, 0.0, 128)
+    cutters = _cutters(40)
+    local = Piece(blank, batch=8, spread=4, group=4)                    # windows of 32
+    remote = Piece(blank, batch=8, spread=4, group=4, remote_after=6)
+    try:
+        remote.add(cutters[:5])                 # one run, made before the worker starts
+        assert remote.remote is None and remote.batches == 0
+        remote.add(cutters[5:10])               # the worker starts at the second run: both go
+        assert remote.remote is not None and remote.remote._runs == 2 and remote.batches == 0
+        remote.add(cutters[10:])
+        assert remote.batches == 4 and remote.remote._runs == 10       # the window's 4 batches
+        remote.flush()
+        local.add(cutters)
+        local.flush()
+        assert remote.batches == local.batches == 5
+        assert remote.volume == pytest.approx(local.volume, rel=1e-12)
+        assert remote.volume < engine.volume(blank) - 10.0
+    finally:
+        remote.close()
+
+
 def test_the_workers_process_ends_with_its_piece():
     blank = engine.cylinder(30.0, -20.0, 0.0, 64)
     piece = Piece(blank, batch=4, spread=1, remote_after=0)
@@ -65,30 +90,36 @@ def test_the_workers_process_ends_with_its_piece():
 
 
 def test_a_batch_the_worker_cannot_subtract_is_an_error_at_the_next_answer():
-    """The worker's loop over a socket pair (in a thread here): a cutter that is not a closed
-    mesh makes the stock invalid; the answer carries the error (kind and message), and later
-    batches are skipped (the cutters done stay at the first batch's)."""
+    """The worker's loop over a socket pair (in a thread here): runs are united as they come
+    and a batch of them subtracted (the volume the blank less the runs' union); a cutter
+    that is not a closed mesh is an error at the next answer (kind and message), and later
+    runs and batches are skipped (the cutters done stay at the first batch's)."""
     ours, theirs = socket.socketpair()
     a, b = Connection(ours.detach()), Connection(theirs.detach())
     worker = threading.Thread(target=serve, args=(b,))
     worker.start()
     try:
         blank = engine.cylinder(30.0, -20.0, 0.0, 64)
+        cutters = _cutters(6)
         a.send(("solid", *engine.to_arrays(blank), engine.volume(blank)))
-        a.send(("cut", [engine.to_arrays(c) for c in _cutters(4)]))
+        a.send(("run", [engine.to_arrays(c) for c in cutters[:4]]))     # run 0
+        a.send(("run", [engine.to_arrays(c) for c in cutters[4:]]))     # run 1
+        a.send(("batch", [0, 1], 6))
         a.send(("snap", 1))
-        assert a.recv() == ("done", 4)                                  # cutters subtracted
+        assert a.recv() == ("done", 6)                                  # cutters subtracted
         msg = a.recv()
         assert msg[:2] == ("snap", 1) and msg[-1] is None
         good = msg[5]
+        assert good == pytest.approx(engine.volume(engine.subtract(blank, cutters)), rel=1e-12)
         assert good < engine.volume(blank)
         v, f = engine.to_arrays(engine.box([25.0, -5.0, -5.0], [35.0, 5.0, 5.0]))
-        a.send(("cut", [(v, f[:-1])]))                                  # one face missing
-        a.send(("cut", [engine.to_arrays(c) for c in _cutters(4, seed=1)]))
+        a.send(("run", [(v, f[:-1])]))                                  # one face missing
+        a.send(("batch", [2], 1))
+        a.send(("run", [engine.to_arrays(c) for c in _cutters(4, seed=1)]))
+        a.send(("batch", [3], 4))
         a.send(("snap", 2))
-        assert a.recv() == ("done", 4)                          # the failed batch; the next skipped
-        msg = a.recv()
-        assert msg[1] == 2 and msg[-1][0] == "stock_invalid"
+        msg = a.recv()                                          # no batch done after the bad run
+        assert msg[1] == 2 and msg[-1][0] == "stock_invalid" and msg[5] == good
     finally:
         a.close()
         worker.join(timeout=10)

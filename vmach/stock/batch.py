@@ -10,10 +10,15 @@ that each take runs of ``group`` consecutive cutters spread over the window.
 After every batch the piece is evaluated and checked: a valid manifold whose volume did not
 grow (:class:`vmach.stock.engine.StockError` otherwise).
 
-Once ``remote_after`` cutters were queued (and a window is full), the batches go to a worker
-process (:mod:`vmach.stock.remote`), which subtracts and checks them in the same order while
-the caller goes on making cutters; the piece's ``solid``, ``volume`` and ``box`` then wait for
-it. The batches, and so the part, are the same either way.
+Once ``remote_after`` cutters were queued, the batches go to a worker process
+(:mod:`vmach.stock.remote`), which subtracts and checks them in the same order while the
+caller goes on making cutters; the piece's ``solid``, ``volume`` and ``box`` then wait for it.
+The worker gets each run as soon as its cutters are made and unites it then (the unions do
+not depend on the stock, and they are most of a batch's work), so that it need not wait for
+a window to fill: at the start of a program the second core is otherwise idle until the
+first window is made. A batch is then the worker's union of its runs' unions, subtracted;
+in this process, the union of its cutters. The batches, so the part, are the same either
+way (its mesh may differ by the order the booleans took; the same for every run).
 """
 
 from __future__ import annotations
@@ -62,7 +67,9 @@ class Piece:
         self.remote = None       # a vmach.stock.remote.Remote once the worker is started
         self.on_progress = None  # called as the worker reports progress (a progress bar)
         self._synced = True      # solid, volume and box are the worker's after its last batch
-        self.pending: list[engine.Solid] = []
+        self.pending: list[engine.Solid] = []   # queued, not yet in a batch
+        self._runs: list[int] = []      # sizes of the runs the pending cutters begin with
+        self._run_ids: list[int] = []   # ... and their numbers at the worker (with one)
         self.queued = 0          # cutters ever queued
         self.batches = 0
         self.sent = 0            # cutters taken into batches
@@ -129,24 +136,41 @@ class Piece:
 
     # the queue ---------------------------------------------------------------------------------
     def add(self, cutters: list[engine.Solid]) -> None:
-        """Queue cutters; full windows are subtracted at once."""
+        """Queue cutters; full runs go to the worker (if any) and full windows are subtracted
+        at once."""
         self.pending += cutters
         self.queued += len(cutters)
-        window = self.batch * self.spread
-        while len(self.pending) >= window:
-            self._start()
-            self._window(window)
+        self._runs_and_windows(final=False)
 
     def flush(self) -> None:
-        if self.pending:
-            self._start()
-        while self.pending:
-            self._window(self.batch * self.spread)
+        self._runs_and_windows(final=True)
+
+    def _runs_and_windows(self, final: bool) -> None:
+        """Cut the pending cutters into runs of ``group`` (the last of a window or, with
+        ``final``, of the queue shorter) and subtract every full window (with ``final``, the
+        last one too)."""
+        window = self.batch * self.spread
+        g = min(self.group, self.batch)
+        while True:
+            made = sum(self._runs)
+            room = min(g, window - made)
+            left = len(self.pending) - made
+            if room == 0 or (final and left == 0 and made):
+                self._start()
+                self._window(made)
+            elif left >= room or (final and left):
+                self._start()
+                k = min(room, left)
+                self._runs.append(k)
+                if self.remote is not None:
+                    self._run_ids.append(self.remote.run(self.pending[made : made + k]))
+            else:
+                return
 
     def _start(self) -> None:
-        """Hand the batches to a worker process from now on, once ``remote_after`` cutters
-        were queued (at a full window, or at a flush: a path cut chunk by chunk, whose chunks
-        are flushed to be measured, may never fill one)."""
+        """Hand the runs and batches to a worker process from now on, once ``remote_after``
+        cutters were queued (asked at every run and window, a flush's too: a path cut chunk
+        by chunk, whose chunks are flushed to be measured, may never fill a window)."""
         if self.remote is None and self.remote_after is not None and self.queued >= self.remote_after:
             from vmach.stock.remote import Remote
 
@@ -157,6 +181,10 @@ class Piece:
             else:
                 self.remote.on_progress = self.on_progress
                 self._before = self.sent
+                at = 0                              # the window's runs made so far go too
+                for k in self._runs:
+                    self._run_ids.append(self.remote.run(self.pending[at : at + k]))
+                    at += k
 
     def local(self, lo: np.ndarray, hi: np.ndarray) -> engine.Solid:
         """The piece after every batch so far inside the box [lo, hi] (mm) — with a worker,
@@ -167,30 +195,28 @@ class Piece:
             return engine.empty()
         return engine.intersect(self._solid, engine.box(lo, hi))
 
-    def _window(self, window: int) -> None:
-        take, self.pending = self.pending[:window], self.pending[window:]
-        if self.spread == 1 or len(take) <= self.batch:
-            self._subtract(take)
-            return
-        g = min(self.group, self.batch)
-        runs = [take[i : i + g] for i in range(0, len(take), g)]
-        nb = -(-len(take) // self.batch)
+    def _window(self, made: int) -> None:
+        """Subtract the window of the runs made (``made`` cutters): ``nb`` batches, batch b
+        taking runs b, b + nb, … (spread over the window)."""
+        take, self.pending = self.pending[:made], self.pending[made:]
+        sizes, ids = self._runs, self._run_ids
+        self._runs, self._run_ids = [], []
+        starts = np.cumsum([0, *sizes])
+        nb = -(-made // self.batch)
         for b in range(nb):
-            self._subtract([c for run in runs[b::nb] for c in run])
-
-    def _subtract(self, take: list[engine.Solid]) -> None:
-        if not take:
-            return
-        if self.remote is not None:
-            self.remote.cut(take)
-            self._synced = False
-        else:
-            t0 = time.perf_counter()
-            self._solid, self._volume = subtract_checked(self._solid, self._volume, take)
-            self._box = box_of(self._solid)
-            self._seconds += time.perf_counter() - t0
-        self.batches += 1
-        self.sent += len(take)
+            runs = range(b, len(sizes), nb)
+            count = int(sum(sizes[r] for r in runs))
+            if self.remote is not None:
+                self.remote.batch([ids[r] for r in runs], count)
+                self._synced = False
+            else:
+                t0 = time.perf_counter()
+                cutters = [c for r in runs for c in take[starts[r] : starts[r + 1]]]
+                self._solid, self._volume = subtract_checked(self._solid, self._volume, cutters)
+                self._box = box_of(self._solid)
+                self._seconds += time.perf_counter() - t0
+            self.batches += 1
+            self.sent += count
 
 
 class _Ready:

@@ -8,12 +8,14 @@ in two processes. The worker is a fresh interpreter (``python -m vmach.stock.rem
 imports manifold3d and numpy only): manifold3d's thread pool does not survive ``fork``.
 
 Protocol, over a socket pair (``multiprocessing.connection``, numpy arrays pickled):
-``("solid", vertices, faces, volume)`` once, then ``("cut", [(vertices, faces), ...])`` — one
-batch, subtracted and checked as :func:`vmach.stock.batch.subtract_checked` does, in the order
-sent, each answered by ``("done", cutters subtracted so far)`` for a progress bar — and
+``("solid", vertices, faces, volume)`` once, then ``("run", [(vertices, faces), ...])`` — a run
+of cutters, united at once and kept under its number (0, 1, … in the order sent) —,
+``("batch", [run numbers], cutters)`` — the union of those runs' unions, subtracted and
+checked as :func:`vmach.stock.batch.subtract_checked` does, in the order sent, each answered
+by ``("done", cutters subtracted so far)`` for a progress bar — and
 ``("snap", n)``, answered with the piece after every batch sent before it, its box,
 volume, the worker's boolean seconds and the first error (kind, message) if a batch failed
-(later batches are then skipped); ``("local", n, lo, hi)`` the same for the piece's part
+(later runs and batches are then skipped); ``("local", n, lo, hi)`` the same for the piece's part
 inside the box [lo, hi] (what a checked run measures against, chunk by chunk: a few
 thousand triangles instead of the whole stock). All arrays in double precision (:func:`engine.to_arrays`),
 so the worker's batches are the caller's exactly.
@@ -85,6 +87,7 @@ class Remote:
                                         daemon=True)
         self._sender.start()
         self._asked = 0                 # answers asked for (snapshots and boxes' pieces)
+        self._runs = 0                  # runs sent
         self._answers: dict[int, tuple] = {}
         self.seconds = 0.0              # the worker's boolean time as of its last answer
         self.wait_seconds = 0.0         # time spent waiting for answers
@@ -94,9 +97,16 @@ class Remote:
         self._finalizer = weakref.finalize(self, _stop, self._proc, self._out, self._sender)
         self._out.put(("solid", *engine.to_arrays(solid), float(volume)))
 
-    def cut(self, cutters: list[engine.Solid]) -> None:
-        """Send one batch (evaluated here: the arrays are the cutters' exact meshes)."""
-        self._out.put(("cut", [engine.to_arrays(c) for c in cutters]))
+    def run(self, cutters: list[engine.Solid]) -> int:
+        """Send a run of cutters for the worker to unite now (evaluated here: the arrays are
+        the cutters' exact meshes); its number (for :meth:`batch`)."""
+        self._out.put(("run", [engine.to_arrays(c) for c in cutters]))
+        self._runs += 1
+        return self._runs - 1
+
+    def batch(self, runs: list[int], count: int) -> None:
+        """Subtract the union of the runs numbered ``runs`` (``count`` cutters in all)."""
+        self._out.put(("batch", list(runs), int(count)))
 
     def snapshot(self) -> _Answer:
         """Ask for the piece after every batch sent so far."""
@@ -183,6 +193,8 @@ def _stop(proc: subprocess.Popen, out: queue.SimpleQueue, sender: threading.Thre
 def serve(conn: Connection) -> None:
     """The worker's loop (see the module docstring); returns when the caller goes away."""
     solid, volume, seconds, error, done = engine.empty(), 0.0, 0.0, None, 0
+    runs: dict[int, tuple[engine.Solid, int]] = {}      # run number -> (its union, cutters)
+    next_run = 0
     while True:
         try:
             msg = conn.recv()
@@ -190,12 +202,27 @@ def serve(conn: Connection) -> None:
             return
         if msg[0] == "solid":
             solid, volume = engine.from_arrays(msg[1], msg[2]), msg[3]
-        elif msg[0] == "cut" and error is None:
+        elif msg[0] == "run":
+            if error is None:
+                t0 = time.perf_counter()
+                try:
+                    cutters = [engine.from_arrays(v, f) for v, f in msg[1]]
+                    for c in cutters:
+                        engine.check(c, "a cutter")
+                    union = engine.union(cutters)
+                    engine.check(union, "a run of cutters")     # evaluated now, while it waits
+                    runs[next_run] = (union, len(msg[1]))
+                except engine.StockError as exc:
+                    error = (exc.kind, str(exc))
+                except Exception as exc:    # noqa: BLE001 - reported to the caller, not printed
+                    error = ("stock_worker", f"the stock's worker process failed: {exc!r}")
+                seconds += time.perf_counter() - t0
+            next_run += 1
+        elif msg[0] == "batch" and error is None:
             t0 = time.perf_counter()
             try:
-                cutters = [engine.from_arrays(v, f) for v, f in msg[1]]
-                solid, volume = subtract_checked(solid, volume, cutters)
-                done += len(cutters)
+                solid, volume = subtract_checked(solid, volume, [runs.pop(r)[0] for r in msg[1]])
+                done += msg[2]
             except engine.StockError as exc:
                 error = (exc.kind, str(exc))
             except Exception as exc:    # noqa: BLE001 - reported to the caller, not printed

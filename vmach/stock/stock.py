@@ -131,7 +131,7 @@ class Stock(CutterMaker):
     FRESH_AFTER = 4    # batches' worth of cutters after which a new path retakes them
     SLABS = True       # trim to the stock's extent per Z range (False: one box, for comparison)
     GROUP = 16   # consecutive cutters kept together in a spread batch
-    WORKER_AFTER = 512  # cutters queued before a worker process takes the batches
+    WORKER_AFTER = 64   # cutters queued before a worker process takes the runs and batches
     BLANK_CELL = 20_000  # triangles of a finely meshed blank per cell (:meth:`blank_meets`)
     #: relative volume difference up to which a blank counts as convex: a convex blank read
     #: from an STL carries float32 coordinates (a Ø60 cylinder of 80,000 triangles: 2e-7).
