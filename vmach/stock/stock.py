@@ -130,7 +130,7 @@ class Stock(CutterMaker):
     SLAB_REFRESH = 32  # batches after which the trim slabs are taken again
     FRESH_AFTER = 4    # batches' worth of cutters after which a new path retakes them
     SLABS = True       # trim to the stock's extent per Z range (False: one box, for comparison)
-    GROUP = 16   # consecutive cutters kept together in a spread batch
+    GROUP = 4    # consecutive cutters kept together in a spread batch (a run the worker unites as it comes)
     WORKER_AFTER = 64   # cutters queued before a worker process takes the runs and batches
     BLANK_CELL = 20_000  # triangles of a finely meshed blank per cell (:meth:`blank_meets`)
     #: relative volume difference up to which a blank counts as convex: a convex blank read
@@ -142,7 +142,7 @@ class Stock(CutterMaker):
 
     def __init__(self, solid: engine.Solid, *, batch: int = 64,
                  cells: tuple[int, int, int] = (1, 1, 1), chord: float = tol.tool_chord,
-                 progress: bool = False, trim: bool = True, spread: int = 8, fans: bool = True,
+                 progress: bool = False, trim: bool = True, spread: int = 16, fans: bool = True,
                  fan_overcut: float = tol.fan_overcut, cusp: float = tol.sweep_cusp, columns: bool = True,
                  arcs: bool = False, worker: bool = True):
         engine.check(solid, "blank")
