@@ -29,8 +29,8 @@ def _cutters(n: int, seed: int = 0) -> list:
 
 
 def test_a_worker_subtracts_the_same_batches_to_the_same_piece():
-    """The same cutters through a local piece and one whose batches go to a worker process
-    from the first full window on: the same batches, the same volume (to rounding: the
+    """The same cutters through a local piece and one whose runs and batches go to a worker
+    process from the first run on: the same batches, the same volume (to rounding: the
     worker's solids are made again from their exact double-precision meshes), both valid."""
     blank = engine.cylinder(30.0, -20.0, 0.0, 256)
     cutters = _cutters(96)

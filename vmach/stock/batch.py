@@ -159,18 +159,16 @@ class Piece:
                 self._start()
                 self._window(made)
             elif left >= room or (final and left):
+                self._runs.append(min(room, left))
                 self._start()
-                k = min(room, left)
-                self._runs.append(k)
-                if self.remote is not None:
-                    self._run_ids.append(self.remote.run(self.pending[made : made + k]))
             else:
                 return
 
     def _start(self) -> None:
         """Hand the runs and batches to a worker process from now on, once ``remote_after``
         cutters were queued (asked at every run and window, a flush's too: a path cut chunk
-        by chunk, whose chunks are flushed to be measured, may never fill a window)."""
+        by chunk, whose chunks are flushed to be measured, may never fill a window); with a
+        worker, send it every run made that it has not got yet."""
         if self.remote is None and self.remote_after is not None and self.queued >= self.remote_after:
             from vmach.stock.remote import Remote
 
@@ -181,10 +179,11 @@ class Piece:
             else:
                 self.remote.on_progress = self.on_progress
                 self._before = self.sent
-                at = 0                              # the window's runs made so far go too
-                for k in self._runs:
-                    self._run_ids.append(self.remote.run(self.pending[at : at + k]))
-                    at += k
+        if self.remote is not None:                 # (a worker started mid-window: all of them)
+            at = sum(self._runs[: len(self._run_ids)])
+            for k in self._runs[len(self._run_ids) :]:
+                self._run_ids.append(self.remote.run(self.pending[at : at + k]))
+                at += k
 
     def local(self, lo: np.ndarray, hi: np.ndarray) -> engine.Solid:
         """The piece after every batch so far inside the box [lo, hi] (mm) — with a worker,

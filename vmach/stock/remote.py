@@ -193,7 +193,7 @@ def _stop(proc: subprocess.Popen, out: queue.SimpleQueue, sender: threading.Thre
 def serve(conn: Connection) -> None:
     """The worker's loop (see the module docstring); returns when the caller goes away."""
     solid, volume, seconds, error, done = engine.empty(), 0.0, 0.0, None, 0
-    runs: dict[int, tuple[engine.Solid, int]] = {}      # run number -> (its union, cutters)
+    runs: dict[int, engine.Solid] = {}      # run number -> its union
     next_run = 0
     while True:
         try:
@@ -211,7 +211,7 @@ def serve(conn: Connection) -> None:
                         engine.check(c, "a cutter")
                     union = engine.union(cutters)
                     engine.check(union, "a run of cutters")     # evaluated now, while it waits
-                    runs[next_run] = (union, len(msg[1]))
+                    runs[next_run] = union
                 except engine.StockError as exc:
                     error = (exc.kind, str(exc))
                 except Exception as exc:    # noqa: BLE001 - reported to the caller, not printed
@@ -221,7 +221,7 @@ def serve(conn: Connection) -> None:
         elif msg[0] == "batch" and error is None:
             t0 = time.perf_counter()
             try:
-                solid, volume = subtract_checked(solid, volume, [runs.pop(r)[0] for r in msg[1]])
+                solid, volume = subtract_checked(solid, volume, [runs.pop(r) for r in msg[1]])
                 done += msg[2]
             except engine.StockError as exc:
                 error = (exc.kind, str(exc))
