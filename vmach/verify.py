@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 import interpreters
-from vmach import __version__
+from vmach import __version__, coverage
 from vmach.canon import RunOptions, RunResult
 from vmach.checks.process import spindle_off_cuts, unknown_tools, zero_feeds
 from vmach.errors import InputError
@@ -46,6 +47,7 @@ class VerifyOptions:
     clearance: float = 1.0  # near-miss distance for rapids, mm
     accuracy: str | None = None  # stock simulation preset (vmach.tol.ACCURACY); None: setup, else standard
     dialect: str | None = None  # None: by the extension, or the machine's (interpreters.dialect_for)
+    default_tool: str | None = None  # stand-in for tools the library lacks (vmach.tooling.default)
 
 
 @dataclass
@@ -69,6 +71,8 @@ class Report:
     library: Any = None  # vmach.tooling.ToolLibrary
     profile_spec: str | None = None
     accuracy: str = "standard"  # the stock simulation's preset (vmach.tol.ACCURACY)
+    skipped: dict[str, str] = field(default_factory=dict)  # stage -> why it did not run (coverage)
+    stopped_at: Any = None  # SourceRef of the error that stopped an unfinished run (coverage)
 
     @property
     def errors(self) -> int:
@@ -88,6 +92,7 @@ class Report:
         st = self.part.stats
         return {
             "accuracy": self.accuracy,
+            "partial": self.stopped_at is not None,
             "rim_arcs": bool(self.part.arcs),
             "moves": int(self.sim.moves),
             "poses": int(self.sim.samples),
@@ -109,6 +114,7 @@ class Report:
     def to_json(self) -> dict[str, Any]:
         findings = sorted(self.findings, key=sort_key)
         res = self.result
+        cycle = None if self.stopped_at is not None else self.cycle    # never for an unfinished run
         return {
             "vmach": __version__,
             "program": {
@@ -116,7 +122,11 @@ class Report:
                 "completed": None if res is None else res.completed,
                 "blocks": None if res is None else res.blocks,
                 "moves": None if self.table is None else len(self.table),
+                "stopped_at": None if self.stopped_at is None
+                else {"file": self.stopped_at.path, "line": self.stopped_at.line},
             },
+            "partial": self.stopped_at is not None,
+            "skipped": dict(self.skipped),
             "machine": None
             if self.machine_path is None
             else {
@@ -134,8 +144,8 @@ class Report:
             "findings": [_finding_json(f) for f in findings],
             "simulation": self.simulation(),
             "profile": self.profile,
-            "cycle_time_s": None if self.cycle is None else self.cycle["total_s"],
-            "cycle_time": self.cycle,
+            "cycle_time_s": None if cycle is None else cycle["total_s"],
+            "cycle_time": cycle,
             "images": dict(self.images),
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
         }
@@ -212,8 +222,16 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             from vmach.tooling.library import load_tools
 
             library = load_tools(tools_path)
+        default_spec = options.default_tool or setup.default_tool
+        if default_spec:
+            from vmach.tooling.default import WithDefault, parse_default_tool
+
+            library = WithDefault(library, parse_default_tool(
+                default_spec, "--default-tool" if options.default_tool else f"{setup.source}: default_tool"))
         report.library = library
         report.stock_spec = options.stock or setup.stock
+        # the stock is read now: a malformed spec fails before anything runs, with or without tools
+        blank = _blank(report.stock_spec, report.findings) if report.stock_spec else None
         report.accuracy = options.accuracy or setup.accuracy or "standard"
         if report.accuracy not in ACCURACY:
             where = f"{setup.source}: " if options.accuracy is None else "--"
@@ -231,20 +249,20 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
 
     with clock("interpret"):
         dialect = interpreters.dialect_for(path, options.dialect, control.dialect)
+        static = dialect.check(str(program), control)     # verify reports all that check does
         result = dialect.run(str(program), control, RunOptions(
             max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None))
         report.result = result
-        report.findings.extend(result.findings)
+        report.findings.extend(coverage.merged(static, result.findings))
+        report.stopped_at = coverage.stop_place(result)
 
     with clock("move_table"):
         table = build(result.commands, control)
         report.table = table
 
     with clock("checks"):
-        if library is not None:
-            report.findings.extend(unknown_tools(result.commands, library))
+        report.findings.extend(unknown_tools(result.commands, library))
         report.findings.extend(zero_feeds(table))
-        report.findings.extend(spindle_off_cuts(table, model.tool_spindle))
         report.findings.extend(_limit_findings(model, table))
 
     with clock("cycle_time"):
@@ -263,7 +281,16 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             report.stock_spec, notes = declared
             report.findings.extend(Finding("workpiece", "info", n) for n in notes)
     spec = report.stock_spec
+    if spec and blank is None:
+        blank = _blank(spec, report.findings)
     simulated = bool(spec) and library is not None     # the stock is cut
+    with clock("checks"):
+        from vmach.checks.envelope import in_envelope
+
+        report.findings.extend(coverage.toolless_feeds(table, simulated))
+        report.findings.extend(spindle_off_cuts(table, model.tool_spindle, None if blank is None else partial(
+            in_envelope, table, model, library, _bounds(blank))))
+    _say_skipped(report, spec, library, profile_plan)
     if options.export and not simulated:
         raise InputError(f"--export needs a simulated stock: give {'--tools' if spec else '--stock'} "
                          "(or name it in vmach.toml)", kind="usage")
@@ -280,9 +307,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
                 preload()
 
             acc = ACCURACY[report.accuracy]
-            notes: list = []
-            stock = Stock.from_spec(spec, notes=notes, progress=not options.quiet, **acc.stock)
-            report.findings.extend(Finding("blank_hull", "info", m, data=d) for m, d in notes)
+            stock = Stock(blank, progress=not options.quiet, **acc.stock)
             sim = simulate(table, model, library, stock, checks=True, clearance=options.clearance)
         # the collision checks do not read the stock: they run while its worker process, if
         # it took the batches, subtracts the last of them
@@ -297,7 +322,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             for target in options.export:
                 which = "removed" if Path(target).stem.endswith("removed") else "part"
                 stock.export(target, which=which)
-        if profile_plan is not None:
+        if profile_plan is not None and report.stopped_at is None:
             with clock("profile"):
                 report.findings.extend(_profile(report, stock, report.profile_spec, profile_plan, options))
 
@@ -312,6 +337,42 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
 
     report.timings["total"] = time.perf_counter() - t0
     return report
+
+
+def _bounds(solid) -> np.ndarray:
+    from vmach.stock import engine
+
+    return engine.bounds(solid)
+
+
+def _blank(spec: str, findings: list[Finding]):
+    """The stock solid of ``spec`` (InputError for a malformed one); a convex mesh blank cut as
+    its hull is a ``blank_hull`` info in ``findings``."""
+    from vmach.stock.spec import parse_stock
+
+    notes: list = []
+    solid = parse_stock(spec, notes=notes)
+    findings.extend(Finding("blank_hull", "info", m, data=d) for m, d in notes)
+    return solid
+
+
+def _say_skipped(report: Report, spec: str | None, library, profile_plan) -> None:
+    """Each stage that cannot run, with its reason (:mod:`vmach.coverage`)."""
+    no_lib = "no tool library: give --tools (or tools = in vmach.toml), or --default-tool"
+    if not spec:
+        coverage.skip(report, "stock", "no stock: give --stock (or stock = in vmach.toml, or the program's "
+                      "WORKPIECE)")
+    elif library is None:
+        coverage.skip(report, "stock", no_lib)
+    if library is None:
+        coverage.skip(report, "fixture_collisions", no_lib)
+    if report.stopped_at is not None:
+        stop = f"the program stopped at {coverage.where(report.stopped_at)}"
+        coverage.skip(report, "cycle_time", stop, report.stopped_at)
+        if profile_plan is not None:
+            coverage.skip(report, "profile", f"{stop}: the part is unfinished", report.stopped_at)
+    elif profile_plan is not None and (not spec or library is None):
+        coverage.skip(report, "profile", "no simulated stock to measure")
 
 
 def _limit_findings(model, table: MoveTable) -> list[Finding]:
