@@ -36,5 +36,5 @@ def run(args: argparse.Namespace) -> int:
     else:
         for f in findings:
             print(f.render())
-        print(f"{args.program}: {errors} error(s), {warnings} warning(s)", file=sys.stderr)
+        print(f"{args.program}: {errors} error(s), {warnings} warning(s)")
     return 1 if errors else 0
