@@ -52,15 +52,30 @@ def test_run_prints_the_trace_on_stdout_and_findings_on_stderr(tmp_path, capsys)
     assert f"{p}:2:5: error[division_by_zero]" in cap.err
 
 
+def _first_line_then_close(args):
+    proc = subprocess.Popen([sys.executable, "-m", "vmach.cli", *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    first = proc.stdout.readline()
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    proc.stderr.close()
+    return first, err, proc.wait(timeout=300)
+
+
 def test_a_closed_pipe_ends_quietly():
     """``vmach run POLY50.MPF | head -1``: the reader goes away after one line of thousands."""
     for args in (["run", str(POLY50)], ["run", str(POLY50), "--format", "json"]):
-        proc = subprocess.Popen([sys.executable, "-m", "vmach.cli", *args], stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE)
-        first = proc.stdout.readline()
-        proc.stdout.close()
-        err = proc.stderr.read().decode()
-        proc.stderr.close()
-        code = proc.wait(timeout=120)
+        first, err, code = _first_line_then_close(args)
         assert first.strip()
         assert err == "" and code == 0, (code, err)
+
+
+def test_a_closed_pipe_keeps_the_exit_code_and_the_findings_on_stderr(tmp_path):
+    """``vmach check BAD | head -1`` still fails: a closed pipe is no clean pass."""
+    many = _prog(tmp_path, "".join(f"N{i} GOTOF NOPE{i}\n" for i in range(1, 20001)) + "M30\n")
+    first, err, code = _first_line_then_close(["check", str(many)])
+    assert "error[undefined_label]" in first.decode() and err == "" and code == 1
+    loop = _prog(tmp_path, "R1=0\nLBL: R1=R1+1\nG1 X=R1 F100\nGOTOB LBL\nM30\n", "LOOP.MPF")
+    first, err, code = _first_line_then_close(["run", str(loop), "--max-blocks", "100000"])
+    assert first.strip() and code == 1
+    assert err.startswith(f"{loop}:") and "error[block_limit]" in err and "Traceback" not in err

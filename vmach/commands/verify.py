@@ -86,6 +86,7 @@ def run(args: argparse.Namespace) -> int:
     )
     report = verify(args.program, options)
     data = report.to_json()
+    args.exit_code = 1 if report.errors else 0    # known before the output (a closed pipe keeps it)
     make_dir(out)
     stale_pictures_removed(out, data["images"])
     with atomic_writer(out / "report.json") as fh:
