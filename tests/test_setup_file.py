@@ -67,3 +67,20 @@ def test_postcheck_reads_the_set_up_beside_the_program(capsys):
                  "--format", "json"]) == 1
     out = json.loads(capsys.readouterr().out)
     assert out["summary"]["beyond_tolerance"] == bad > 0 and "(--set)" in out["setup"]
+
+
+@pytest.mark.parametrize("setting, kind", [
+    ('stock = "box:x=60,y=40"', "stock_spec"), ('profile = "P3G:5O"', "profile_spec"),
+    ('accuracy = "fien"', "usage"), ('default_tool = "em10"', "usage"),
+    ('profile = "P3G:50"\nprofile_z = "-35:x"', None)])
+def test_a_bad_setting_value_is_an_error_at_its_line(tmp_path, capsys, setting, kind):
+    """Read before anything runs, with or without a tool library; a command-line option with
+    the same bad value is an error of its own (no line in the file)."""
+    (tmp_path / "vmach.toml").write_text(f'machine = "s5d"\n{setting}\n')
+    p = tmp_path / "P.MPF"
+    p.write_text('T="EM10" D1\nG0 X1\nM30\n')
+    assert main(["verify", str(p), "--no-images", "--out", str(tmp_path / "o")]) == 2
+    (line,) = [ln for ln in capsys.readouterr().err.splitlines() if "error[" in ln]
+    n = setting.count("\n") + 2
+    assert line.startswith(f"{tmp_path / 'vmach.toml'}:{n}:1: error[{kind or ''}")
+    assert not (tmp_path / "o").exists()

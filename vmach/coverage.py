@@ -35,6 +35,27 @@ def skip(report, stage: str, reason: str, source: SourceRef | None = None) -> No
                                    source, None, {"stage": stage, "reason": reason}))
 
 
+def say_skipped(report, spec: str | None, library, profile: bool) -> None:
+    """Each stage of ``report`` (vmach.verify.Report) that cannot run, with its reason: no stock
+    ``spec``, no tool ``library``, an unfinished run; ``profile``: a profile check was asked
+    for."""
+    no_lib = "no tool library: give --tools (or tools = in vmach.toml), or --default-tool"
+    if not spec:
+        skip(report, "stock", "no stock: give --stock (or stock = in vmach.toml, or the program's "
+                      "WORKPIECE)")
+    elif library is None:
+        skip(report, "stock", no_lib)
+    if library is None:
+        skip(report, "fixture_collisions", no_lib)
+    if report.stopped_at is not None:
+        stop = f"the program stopped at {where(report.stopped_at)}"
+        skip(report, "cycle_time", stop, report.stopped_at)
+        if profile:
+            skip(report, "profile", f"{stop}: the part is unfinished", report.stopped_at)
+    elif profile and (not spec or library is None):
+        skip(report, "profile", "no simulated stock to measure")
+
+
 def merged(static: Iterable[Finding], runtime: Iterable[Finding]) -> list[Finding]:
     """The static findings, then the run's that do not repeat one: a defect both find is said
     once, in the static checks' kind and words — the same kind at the same place, or a run's

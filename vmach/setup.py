@@ -23,6 +23,7 @@ Command-line options win; otherwise a ``vmach.toml`` beside the program says wha
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -48,6 +49,7 @@ class Setup:
     zero_offsets: dict[str, dict[str, float]] = field(default_factory=dict)
     parameters: dict[str, float | tuple[float, ...]] = field(default_factory=dict)  # the model's set-up
     source: Path | None = None  # the vmach.toml read, if any
+    places: dict[str, Any] = field(default_factory=dict)  # text setting -> its SourceRef in the file
 
 
 def resolve_model(spec: str | Path, base: Path | None = None) -> Path:
@@ -172,7 +174,22 @@ def read_setup(program: str | Path) -> Setup:
         zero_offsets=zero,
         parameters=params,
         source=path,
+        places={k: places.find(where[k]) for k in TEXT_KEYS if k in data},
     )
+
+
+@contextmanager
+def setting(setup: Setup, key: str, given: object = None):
+    """Run the reading of setting ``key``; when its value came from the setup file (not the
+    command line: ``given`` is None), an InputError it raises points at the key's line in the
+    file and says so."""
+    try:
+        yield
+    except InputError as exc:
+        if given is not None or key not in setup.places or exc.source is not None:
+            raise
+        raise InputError(f"{SETUP_NAME}: {key}: {exc.message}", kind=exc.kind,
+                         source=setup.places[key]) from None
 
 
 def _finite(v: Any) -> bool:

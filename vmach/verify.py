@@ -24,7 +24,7 @@ from vmach.checks.process import spindle_off_cuts, unknown_tools, zero_feeds
 from vmach.errors import InputError
 from vmach.findings import Finding, sort_key
 from vmach.motion import MoveTable, build
-from vmach.setup import Setup, read_setup, resolve_model, with_offsets
+from vmach.setup import Setup, read_setup, resolve_model, setting, with_offsets
 from vmach.tol import ACCURACY
 
 
@@ -226,17 +226,18 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         if default_spec:
             from vmach.tooling.default import WithDefault, parse_default_tool
 
-            library = WithDefault(library, parse_default_tool(
-                default_spec, "--default-tool" if options.default_tool else f"{setup.source}: default_tool"))
+            with setting(setup, "default_tool", options.default_tool):
+                library = WithDefault(library, parse_default_tool(
+                    default_spec, "--default-tool" if options.default_tool else "default_tool"))
         report.library = library
         report.stock_spec = options.stock or setup.stock
         # the stock is read now: a malformed spec fails before anything runs, with or without tools
-        blank = _blank(report.stock_spec, report.findings) if report.stock_spec else None
+        with setting(setup, "stock", options.stock):
+            blank = _blank(report.stock_spec, report.findings) if report.stock_spec else None
         report.accuracy = options.accuracy or setup.accuracy or "standard"
         if report.accuracy not in ACCURACY:
-            where = f"{setup.source}: " if options.accuracy is None else "--"
-            raise InputError(f"{where}accuracy {report.accuracy!r}: one of {', '.join(ACCURACY)}",
-                             kind="usage")
+            with setting(setup, "accuracy", options.accuracy):
+                raise InputError(f"{report.accuracy!r} is not one of {', '.join(ACCURACY)}", kind="usage")
         if options.export:
             from vmach.stock.stock import export_target
 
@@ -244,8 +245,9 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
                 export_target(target)
         report.profile_spec = options.profile or setup.profile
         # the profile, its stations and fit are read now: a typo fails before the simulation
-        profile_plan = (_profile_plan(report.profile_spec, options.profile_z or setup.profile_z, options)
-                        if report.profile_spec else None)
+        with setting(setup, "profile", options.profile), setting(setup, "profile_z", options.profile_z):
+            profile_plan = (_profile_plan(report.profile_spec, options.profile_z or setup.profile_z, options)
+                            if report.profile_spec else None)
 
     with clock("interpret"):
         dialect = interpreters.dialect_for(path, options.dialect, control.dialect)
@@ -290,7 +292,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         report.findings.extend(coverage.toolless_feeds(table, simulated))
         report.findings.extend(spindle_off_cuts(table, model.tool_spindle, None if blank is None else partial(
             in_envelope, table, model, library, _bounds(blank))))
-    _say_skipped(report, spec, library, profile_plan)
+    coverage.say_skipped(report, spec, library, profile_plan is not None)
     if options.export and not simulated:
         raise InputError(f"--export needs a simulated stock: give {'--tools' if spec else '--stock'} "
                          "(or name it in vmach.toml)", kind="usage")
@@ -354,25 +356,6 @@ def _blank(spec: str, findings: list[Finding]):
     solid = parse_stock(spec, notes=notes)
     findings.extend(Finding("blank_hull", "info", m, data=d) for m, d in notes)
     return solid
-
-
-def _say_skipped(report: Report, spec: str | None, library, profile_plan) -> None:
-    """Each stage that cannot run, with its reason (:mod:`vmach.coverage`)."""
-    no_lib = "no tool library: give --tools (or tools = in vmach.toml), or --default-tool"
-    if not spec:
-        coverage.skip(report, "stock", "no stock: give --stock (or stock = in vmach.toml, or the program's "
-                      "WORKPIECE)")
-    elif library is None:
-        coverage.skip(report, "stock", no_lib)
-    if library is None:
-        coverage.skip(report, "fixture_collisions", no_lib)
-    if report.stopped_at is not None:
-        stop = f"the program stopped at {coverage.where(report.stopped_at)}"
-        coverage.skip(report, "cycle_time", stop, report.stopped_at)
-        if profile_plan is not None:
-            coverage.skip(report, "profile", f"{stop}: the part is unfinished", report.stopped_at)
-    elif profile_plan is not None and (not spec or library is None):
-        coverage.skip(report, "profile", "no simulated stock to measure")
 
 
 def _limit_findings(model, table: MoveTable) -> list[Finding]:
