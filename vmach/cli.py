@@ -87,7 +87,24 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.write("vmach: interrupted\n")
         return 130
     except BrokenPipeError:
-        return 0
+        # the reader went away (``vmach run P | head``): stop writing, quietly, with the
+        # command's own exit code when it was known before its output (never a clean 0 for a
+        # program with errors)
+        pipe_closed()
+        return int(getattr(args, "exit_code", 0))
+
+
+def pipe_closed() -> None:
+    """Point stdout at /dev/null after its reader left, so that nothing more (nor the
+    interpreter's flush at exit) raises BrokenPipeError."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):
+        pass
 
 
 if __name__ == "__main__":

@@ -71,14 +71,21 @@ def run(args: argparse.Namespace) -> int:
             with atomic_writer(args.output) as fh:
                 for line in lines:
                     fh.write(line + "\n")
-    else:
+    errors = any(f.severity == "error" for f in result.findings)
+    args.exit_code = code = 1 if errors or not result.completed else 0
+    if not args.output:
         out = sys.stdout
-        for line in lines:
-            out.write(line + "\n")
+        try:
+            for line in lines:
+                out.write(line + "\n")
+            out.flush()
+        except BrokenPipeError:       # the reader left (| head): the findings still go to stderr
+            from vmach.cli import pipe_closed
+
+            pipe_closed()
     for f in result.findings:
         sys.stderr.write(f.render() + "\n")
-    errors = any(f.severity == "error" for f in result.findings)
-    return 1 if errors or not result.completed else 0
+    return code
 
 
 def _json_line(cmd, drives: dict | None) -> str:

@@ -7,6 +7,7 @@ import json
 import sys
 from pathlib import Path
 
+from vmach import coverage
 from vmach.errors import InputError
 from vmach.motion.timing import format_seconds
 from vmach.output import atomic_writer, make_dir, writable_dir
@@ -21,6 +22,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--machine", help="machine model (path or name in models/)")
     p.add_argument("--dialect", help="override the dialect chosen by the extension or the machine")
     p.add_argument("--tools", help="tool library (TOML)")
+    p.add_argument(
+        "--default-tool",
+        metavar="KIND:d=D[,l=L]",
+        help="stand in for every tool the library lacks (or all, without one) with this cutter, e.g. "
+        "flat:d=10 (flat, ball, drill); each is a default_tool warning, never assumed silently",
+    )
     p.add_argument("--stock", help="stock: cylinder:d=60,l=100 | box:x=..,y=..,z=.. | mesh:part.stl")
     p.add_argument("--profile", help="profile to check, e.g. P3G:50 (DIN 32711) or P4C:35x30")
     p.add_argument("--profile-z", help="Z range of the profile check, e.g. -35:-5")
@@ -75,10 +82,13 @@ def run(args: argparse.Namespace) -> int:
         profile_stations=args.stations,
         accuracy=args.accuracy,
         dialect=args.dialect,
+        default_tool=args.default_tool,
     )
     report = verify(args.program, options)
     data = report.to_json()
+    args.exit_code = 1 if report.errors else 0    # known before the output (a closed pipe keeps it)
     make_dir(out)
+    stale_pictures_removed(out, data["images"])
     with atomic_writer(out / "report.json") as fh:
         json.dump(data, fh, indent=2, ensure_ascii=False)
         fh.write("\n")
@@ -90,6 +100,26 @@ def run(args: argparse.Namespace) -> int:
     return 1 if report.errors else 0
 
 
+def stale_pictures_removed(out: Path, images: dict) -> None:
+    """Remove the pictures an earlier report in ``out`` listed that this one does not (a run with
+    --no-images, or fewer findings, must not leave an older picture beside the new report).
+    Only files that report named are touched, and only inside ``out``."""
+    old = out / "report.json"
+    try:
+        listed = json.loads(old.read_text(encoding="utf-8")).get("images") or {}
+    except (OSError, ValueError, AttributeError):
+        return
+    keep = {str(v) for v in images.values()}
+    for name in listed.values() if isinstance(listed, dict) else ():
+        p = out / str(name)
+        if str(name) in keep or p.resolve().parent != out.resolve() or not p.is_file():
+            continue
+        try:
+            p.unlink()
+        except OSError:
+            pass
+
+
 def summary(report, out: Path) -> str:
     lines = []
     for f in sorted(report.findings, key=lambda f: (f.severity != "error", f.line or 0)):
@@ -97,9 +127,12 @@ def summary(report, out: Path) -> str:
     d = report.to_json()
     s = d["summary"]
     lines.append("")
+    partial = " (partial)" if d["partial"] else ""
     lines.append(
-        f"{report.program}: {d['program']['moves']} moves, {s['errors']} error(s), {s['warnings']} warning(s)"
+        f"{report.program}: {d['program']['moves']} moves{partial}, {s['errors']} error(s), "
+        f"{s['warnings']} warning(s)"
     )
+    lines.extend(coverage.summary_lines(report))
     if d["cycle_time_s"] is not None:
         lines.append(f"cycle time {format_seconds(d['cycle_time_s'])}")
     if d["simulation"]:
@@ -107,7 +140,8 @@ def summary(report, out: Path) -> str:
         b = m["error_bounds_mm"]
         sides = max(b["fan_overcut"], b["tool_polygon"], b["side_cusps"])
         lines.append(
-            f"stock ({m['accuracy']} accuracy): {m['cutters']} cutters ({m['fan_cutters']} fans); "
+            f"stock ({m['accuracy']} accuracy{', partial' if partial else ''}): "
+            f"{m['cutters']} cutters ({m['fan_cutters']} fans); "
             "simulation error within "
             f"{b['face_scallop']:.4f} mm on flat faces, {sides:g} mm on sides "
             "(report.json: simulation.error_bounds_mm)"
