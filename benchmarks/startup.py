@@ -28,7 +28,10 @@ COMMANDS = {
 }
 LIBRARIES = ("numpy", "scipy", "shapely", "trimesh", "manifold3d", "pyvista", "vtk", "PIL", "tqdm")
 
-RUN = "import sys; sys.path.insert(0, {tree!r}); from vmach.cli import main\ntry:\n    main({args!r})\nexcept SystemExit:\n    pass\n"
+RUN = (
+    "import sys; sys.path.insert(0, {tree!r}); from vmach.cli import main\n"
+    "try:\n    main({args!r})\nexcept SystemExit:\n    pass\n"
+)
 
 
 def _seconds(code: str) -> float:
@@ -74,7 +77,8 @@ def main() -> None:
         b, n = best[c, "before"], best[c, "now"]
         print(f"{c:<26} {b:>14.3f} s {n:>8.3f} s {n / b:>7.2f}")
     bare = min(_seconds("pass") for _ in range(args.runs))
-    print(f"\nimport cost of each library alone, best of {args.runs} (bare interpreter {bare:.3f} s subtracted)")
+    print(f"\nimport cost of each library alone, best of {args.runs} "
+          f"(bare interpreter {bare:.3f} s subtracted)")
     for lib in LIBRARIES:
         t = min(_seconds(f"import {lib}") for _ in range(args.runs)) - bare
         print(f"  {lib:<12} {t:7.3f} s")
