@@ -7,5 +7,5 @@ setup(
     packages=[*find_packages(include=["vmach*", "interpreters*"]), "vmach.models"],
     package_dir={"vmach.models": "models"},
     package_data={"*": ["*.toml", "*.json", "*.csv"], "vmach.models": ["*.toml"],
-                  "vmach.report": ["vendor/*.js", "vendor/LICENSE*"]},
+                  "vmach.report": ["vendor/*.js", "vendor/LICENSE*", "vendor/*.md", "assets/*"]},
 )

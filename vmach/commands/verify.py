@@ -82,6 +82,9 @@ def run(args: argparse.Namespace) -> int:
     with atomic_writer(out / "report.json") as fh:
         json.dump(data, fh, indent=2, ensure_ascii=False)
         fh.write("\n")
+    from vmach.report.html import write_report_html
+
+    write_report_html(report, data, out)       # report.html beside it: the same report, shown
     if args.format == "json":
         json.dump(data, sys.stdout, indent=2, ensure_ascii=False)
         sys.stdout.write("\n")
@@ -118,5 +121,5 @@ def summary(report, out: Path) -> str:
             f"profile {p['type']} d1={p['d1']}: max |deviation| {p['max_abs_deviation_mm']:.4f} mm, "
             f"band {p['tolerance_mm']}: {'PASS' if p['pass'] else 'FAIL'}"
         )
-    lines.append(f"report: {out / 'report.json'}")
+    lines.append(f"report: {out / 'report.json'} ({out / 'report.html'})")
     return "\n".join(lines)
