@@ -169,7 +169,7 @@ def _viewer(scene: dict) -> str:
             f"<span style='background:#9e9e9e'></span>in band {band['lo_um']:+.1f}…{band['hi_um']:+.1f} µm "
             "<span style='background:#b30418'></span>material outside "
             "<span style='background:#05308f'></span>gouged "
-            "<span style='background:#e6dec7'></span>not measured")
+            "<span style='background:#f5f5f5;border:1px solid #bbb'></span>not measured")
     toggles = "".join(
         f"<label><input type='checkbox' data-layer='{k}' checked> {k}</label> "
         for k in ("part", "feed", "rapid", "places"))

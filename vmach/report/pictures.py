@@ -202,8 +202,8 @@ def make_pictures(report, out_dir: Path) -> dict[str, str]:
         keep = np.all(v[f][:, :, 2] > min(z) - 10.0, axis=1)  # the profiled end, not the whole bar
         render.part_deviation_png(
             out_dir / "part_deviation.png", v, f[keep], dev * 1000.0, (rng[0] * 1000, rng[1] * 1000),
-            title=f"{report.profile_spec}: radial deviation from the nominal profile; grey within the "
-            f"band {lo * 1000:+.1f}..{hi * 1000:+.1f} um, red material outside it, blue gouged",
+            title=f"{report.profile_spec} radial deviation: grey in the band "
+            f"{lo * 1000:+.1f}..{hi * 1000:+.1f} um, red above, blue below, white not measured",
             colours=colours, ticks=[t * 1000 for t in round_ticks(lo, hi, rng)], unit="µm",
             nan_colour=NOT_MEASURED.tolist(),
         )

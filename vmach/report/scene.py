@@ -5,7 +5,7 @@ map's colours, and the scene of ``report.html``'s interactive view. ``render`` (
 Colours of the deviation map (radial deviation from the nominal profile, µm): grey inside the
 tolerance band; above the band (material left outside) from light to dark red, below it (the
 part gouged) from light to dark blue, each reaching its darkest ``span`` beyond the band's edge;
-pale beige where nothing is measured (outside the profiled length).
+near white where nothing is measured (outside the profiled length).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import numpy as np
 from vmach.findings import Finding, sort_key
 
 IN_BAND = np.array([0.62, 0.62, 0.62])        # grey: within the tolerance band
-NOT_MEASURED = np.array([0.90, 0.87, 0.78])   # pale beige: outside the profiled length
+NOT_MEASURED = np.array([0.96, 0.96, 0.96])   # near white: outside the profiled length
 ABOVE = (np.array([0.98, 0.75, 0.68]), np.array([0.70, 0.02, 0.09]))   # light -> dark red
 BELOW = (np.array([0.70, 0.80, 0.98]), np.array([0.02, 0.19, 0.58]))   # light -> dark blue
 SEVERITY_COLOURS = {"error": "#d62728", "warning": "#ff7f0e", "info": "#1f77b4"}
