@@ -21,7 +21,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def describe(path: Path) -> dict[str, Any]:
     """One model file's metadata: name (``--machine`` takes it), description, structure
     formula (None for a model written as links and joints), dialect (None: by the program's
-    extension), axes; a file
+    extension), axes (without ``[[axes]]``: the formula's letters in X Y Z A B C order); a file
     that does not parse is listed with ``error`` (``vmach check --machine`` says where)."""
     entry: dict[str, Any] = {"name": path.stem, "file": path.name}
     try:
@@ -36,6 +36,8 @@ def describe(path: Path) -> dict[str, Any]:
         dialect=control.get("dialect") if isinstance(control.get("dialect"), str) else None,
         axes=[str(a.get("name")) for a in axes if isinstance(a, dict) and "name" in a],
     )
+    if not entry["axes"] and entry["formula"]:      # without [[axes]]: the formula's letters
+        entry["axes"] = sorted({c for c in entry["formula"] if c in "XYZABC"}, key="XYZABC".index)
     return entry
 
 
