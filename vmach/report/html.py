@@ -46,7 +46,7 @@ def verdict(data: dict) -> tuple[str, str]:
     stage was skipped; else PASS."""
     if (data.get("summary") or {}).get("errors"):
         return "fail", "FAIL"
-    if (data.get("program") or {}).get("completed") is False or data.get("skipped"):
+    if (data.get("program") or {}).get("completed") is False or data.get("partial") or data.get("skipped"):
         return "partial", "INCOMPLETE"
     return "pass", "PASS"
 
@@ -111,7 +111,9 @@ def _numbers(f: dict) -> str:
         if k in _COLUMNS:
             continue
         if isinstance(v, float):
-            v = f"{v:.6g}"
+            v = f"{v + 0.0:.6g}"                      # + 0.0: no "-0"
+        elif isinstance(v, list) and all(isinstance(x, float | int) for x in v):
+            v = "[" + ", ".join(f"{x + 0.0:.6g}" for x in v) + "]"
         elif isinstance(v, list | dict):
             v = json.dumps(v, ensure_ascii=False)
         parts.append(f"{k}={v}")
@@ -195,10 +197,13 @@ def render_html(
     prog = Path((data.get("program") or {}).get("path") or "program").name
     cls, word = verdict(data)
     banners = []
-    completed = (data.get("program") or {}).get("completed")
-    if completed is False:
-        banners.append("The program did not run to its end: every figure below covers only the part "
-                       "that ran (see the findings for where it stopped).")
+    program = data.get("program") or {}
+    if program.get("completed") is False or data.get("partial"):
+        stop = program.get("stopped_at")
+        where = (f"stopped at {_e(stop.get('file'))}:{_e(stop.get('line'))}" if isinstance(stop, dict)
+                 else "see the findings for where it stopped")
+        banners.append(f"The program did not run to its end ({where}): every figure below covers only "
+                       "the part that ran.")
     skipped = _skipped(data.get("skipped"))
     if skipped:
         items = "".join(f"<li>{_e(s)}</li>" for s in skipped)
