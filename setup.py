@@ -6,6 +6,7 @@ from setuptools import find_packages, setup
 setup(
     packages=[*find_packages(include=["vmach*", "interpreters*"]), "vmach.models"],
     package_dir={"vmach.models": "models"},
-    package_data={"*": ["*.toml", "*.json", "*.csv"], "vmach.models": ["*.toml"],
-                  "vmach.report": ["vendor/*.js", "vendor/LICENSE*", "vendor/*.md", "assets/*"]},
+    # data files, also in folders that are not packages (vmach/checks/data/)
+    package_data={"": ["*.toml", "*.json", "*.csv", "*.md", "data/*"], "vmach.models": ["*.toml"],
+                  "vmach.report": ["vendor/*", "assets/*"]},
 )

@@ -17,6 +17,7 @@ import site
 import subprocess
 import sys
 import venv
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -65,6 +66,14 @@ def test_the_wheel_installed_in_a_fresh_venv_runs_every_readme_command(tmp_path)
                             str(src)], capture_output=True, text=True, timeout=600)
     assert build.returncode == 0, build.stderr[-3000:]
     (wheel,) = wheels.glob("vmach-*.whl")
+    # every data file of the packages is in it (the P3G size table, the dialects' language
+    # files, report.html's scripts), and the models under vmach/models
+    inside = set(zipfile.ZipFile(wheel).namelist())
+    files = [p for top in ("vmach", "interpreters") for p in (ROOT / top).rglob("*") if p.is_file()]
+    data = {p.relative_to(ROOT).as_posix() for p in files
+            if p.suffix not in (".py", ".pyc") and "__pycache__" not in p.parts}
+    assert data and data <= inside, sorted(data - inside)
+    assert {f"vmach/models/{p.name}" for p in (ROOT / "models").glob("*.toml")} <= inside
     env_dir = tmp_path / "venv"
     venv.EnvBuilder(with_pip=True).create(env_dir)
     py = env_dir / "bin" / "python"
