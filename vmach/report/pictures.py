@@ -298,14 +298,13 @@ def collision_pictures(report, out_dir: Path, most: int = 8) -> dict[str, str]:
         if overlap is not None:
             meshes.append((overlap[0], overlap[1], "magenta", 1.0))
             legend.append(("intersection", "magenta"))
-        q0 = table.columns(model.axes, model.home, table.start[row : row + 1])
-        path = np.stack([model.fk(q0).tip[0], t2w[:3, 3]])[None]
+        path = _move_path(table, model, row)
         rapid = f.kind == "rapid_into_stock"
         legend.append(("the rapid move (tip)" if rapid else "the move (tip)",
                        "red" if rapid else "darkgreen"))
         legend.append(("contact point" if "at_mm" in f.data else "end of the move", "red"))
         at = np.asarray(f.data.get("at_mm", t2w[:3, 3]), float)
-        radius = 40.0 if tool is None else max(20.0, 1.5 * tool.diameter)
+        radius = 40.0 if tool is None else max(25.0, 2.5 * tool.diameter)
         fname = f"collision_{n}.png"
         render.scene_png(
             out_dir / fname,
@@ -318,6 +317,16 @@ def collision_pictures(report, out_dir: Path, most: int = 8) -> dict[str, str]:
         )
         out[f"collision_{n}"] = fname
     return out
+
+
+def _move_path(table: MoveTable, model, row: int, step_deg: float = 2.0) -> np.ndarray:
+    """The tool tip's path over one move in the work frame, segments (s, 2, 3) mm: a move that
+    turns a rotary axis is the curve the tip really follows (sampled every ``step_deg``)."""
+    a, b = table.start[row], table.end[row]
+    turn = float(np.max(np.abs(b - a)[table.rotary])) if table.rotary.any() else 0.0
+    t = np.linspace(0.0, 1.0, max(1, math.ceil(turn / step_deg)) + 1)
+    tips = model.fk(table.columns(model.axes, model.home, a + t[:, None] * (b - a))).tip
+    return np.stack([tips[:-1], tips[1:]], axis=1)
 
 
 def _overlap(tool: list, others: list) -> tuple[np.ndarray, np.ndarray] | None:
