@@ -8,6 +8,7 @@ Skips when chromium is absent; with CI=true it fails instead.
 
 from __future__ import annotations
 
+import html
 import json
 import os
 import re
@@ -146,3 +147,45 @@ def test_chromium_draws_the_3d_view_and_lists_every_finding(report, tmp_path):
     assert inked > 0.03, inked           # not a blank page
     assert grey > 0.01, grey             # the part (in-band grey and shading)
     assert red > 20 and green > 20, (red, green)   # rapids and feeds
+
+
+#: appended to a copy of the page: drives the table as a reader would and writes what it saw
+PROBE = """<script>
+(function () {
+  const t = document.getElementById('findings');
+  const shown = () => Array.from(t.tBodies[0].rows).filter(r => !r.hidden).map(r => r.dataset.kind);
+  const out = {};
+  const kind = document.getElementById('filter-kind');
+  kind.value = 'near_miss'; kind.dispatchEvent(new Event('input'));
+  out.kind = shown();
+  kind.value = ''; kind.dispatchEvent(new Event('input'));
+  const text = document.getElementById('filter-text');
+  text.value = 'N100'; text.dispatchEvent(new Event('input'));
+  out.text = shown();
+  text.value = ''; text.dispatchEvent(new Event('input'));
+  const head = t.tHead.rows[0].cells;
+  head[0].click();
+  out.severity_asc = shown();
+  head[0].click();
+  out.severity_desc = shown();
+  document.body.dataset.probe = JSON.stringify(out);
+})();
+</script>"""
+
+
+def test_the_table_sorts_and_filters_in_chromium(report, tmp_path):
+    exe = chromium()
+    data = json.loads((report / "report.json").read_text())
+    page = (report / "report.html").read_text(encoding="utf-8").replace("</body>", PROBE + "</body>")
+    probe = report / "probe.html"
+    probe.write_text(page, encoding="utf-8")
+    dom = browse(exe, probe.as_uri(), tmp_path / "p3", "--dump-dom")
+    assert dom.returncode == 0, dom.stderr[-2000:]
+    seen = json.loads(html.unescape(re.search(r'data-probe="([^"]*)"', dom.stdout).group(1)))
+    kinds = [f["kind"] for f in data["findings"]]
+    assert seen["kind"] == [k for k in kinds if k == "near_miss"] and seen["kind"]
+    assert seen["text"] == ["rapid_into_stock"]                  # the row whose source line is N100
+    rank = {"error": 0, "warning": 1, "info": 2}
+    sev = {f["kind"]: rank[f["severity"]] for f in data["findings"]}
+    assert [sev[k] for k in seen["severity_asc"]] == sorted(sev[k] for k in kinds)
+    assert [sev[k] for k in seen["severity_desc"]] == sorted((sev[k] for k in kinds), reverse=True)
