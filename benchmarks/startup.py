@@ -66,6 +66,9 @@ def main() -> None:
         commit = subprocess.run(["git", "rev-parse", "--short", rev], cwd=ROOT, capture_output=True,
                                 text=True, check=True).stdout.strip()
         trees = {"before": str(old), "now": str(ROOT)}
+        missing_before = [c for c, argv in COMMANDS.items()
+                          if not (old / "vmach" / "commands" / f"{argv[0]}.py").is_file()
+                          and not argv[0].startswith("-")]
         best = {(c, t): float("inf") for c in COMMANDS for t in trees}
         for _ in range(args.runs):          # interleaved: the machine's load falls on both alike
             for c, argv in COMMANDS.items():
@@ -76,6 +79,8 @@ def main() -> None:
     for c in COMMANDS:
         b, n = best[c, "before"], best[c, "now"]
         print(f"{c:<26} {b:>14.3f} s {n:>8.3f} s {n / b:>7.2f}")
+    for c in missing_before:
+        print(f"  ({c}: no such command before; its figure there is the usage error's)")
     bare = min(_seconds("pass") for _ in range(args.runs))
     print(f"\nimport cost of each library alone, best of {args.runs} "
           f"(bare interpreter {bare:.3f} s subtracted)")
