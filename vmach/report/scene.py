@@ -177,7 +177,7 @@ def viewer_scene(report) -> dict | None:
                                 "kind": p.kind, "severity": p.severity, "label": p.label})
     if not pts:
         return None
-    allp = np.vstack(pts)
+    allp = pts[0]                       # the part when there is one: the view frames it
     scene["scale_mm"] = scale_length(float(np.max(np.ptp(allp, axis=0))))
     scene["program"] = Path(report.program).name
     return scene

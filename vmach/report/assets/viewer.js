@@ -61,7 +61,7 @@ for (const pl of S.places) {
   const at = new THREE.Vector3(...pl.at);
   const colour = { error: 0xd62728, warning: 0xff7f0e, info: 0x1f77b4 }[pl.severity] || 0x555555;
   const m = new THREE.Mesh(dot, new THREE.MeshBasicMaterial({ color: colour }));
-  m.position.copy(at); m.scale.setScalar(Math.max(S.scale_mm / 25, 0.05)); scene.add(m);
+  m.position.copy(at); scene.add(m);
   const el = document.createElement('div');
   el.className = 'label'; el.textContent = pl.label; el.style.color = '#' + colour.toString(16).padStart(6, '0');
   el.title = `${pl.kind} (${pl.severity})`; el.dataset.index = pl.index;
@@ -90,6 +90,7 @@ box.appendChild(scaleEl);
 const controls = new OrbitControls(camera, canvas);
 const centre = bounds.getCenter(new THREE.Vector3());
 const size = bounds.getSize(new THREE.Vector3()).length() || 1;
+for (const p of places) p.mesh.scale.setScalar(size / 150);   // dots a fixed share of the view
 function home() {
   controls.target.copy(centre);
   camera.position.copy(centre).add(new THREE.Vector3(1, -1.2, 0.9).normalize().multiplyScalar(size * 2));
