@@ -28,11 +28,11 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from vmach.bundled import MODELS_DIR  # the bundled models (checkout or wheel)
 from vmach.canon import DEFAULT_CONTROL, ControlSpec
 from vmach.errors import InputError, ModelError
 
 SETUP_NAME = "vmach.toml"
-MODELS_DIR = Path(__file__).resolve().parents[1] / "models"
 
 
 @dataclass(frozen=True)

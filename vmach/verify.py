@@ -48,6 +48,7 @@ class VerifyOptions:
     accuracy: str | None = None  # stock simulation preset (vmach.tol.ACCURACY); None: setup, else standard
     dialect: str | None = None  # None: by the extension, or the machine's (interpreters.dialect_for)
     default_tool: str | None = None  # stand-in for tools the library lacks (vmach.tooling.default)
+    progress: Any = None  # vmach.progress.Progress told of each phase (None: nothing shown)
 
 
 @dataclass
@@ -161,18 +162,24 @@ def _finding_json(f: Finding) -> dict[str, Any]:
 
 
 class _Clock:
-    def __init__(self, report: Report):
+    def __init__(self, report: Report, progress=None):
         self.report = report
+        self.progress = progress
 
     def __call__(self, name: str):
-        report = self.report
+        report, progress = self.report, self.progress
 
         class _T:
             def __enter__(self):
+                if progress is not None:
+                    progress.start(name)
                 self.t = time.perf_counter()
 
             def __exit__(self, *exc):
-                report.timings[name] = report.timings.get(name, 0.0) + time.perf_counter() - self.t
+                dt = time.perf_counter() - self.t
+                report.timings[name] = report.timings.get(name, 0.0) + dt
+                if progress is not None and exc[0] is None:
+                    progress.done(name, dt)
                 return False
 
         return _T()
@@ -201,7 +208,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         raise InputError(f"{program}: no such file", kind="unreadable")
     setup = read_setup(path)
     report = Report(str(program), setup)
-    clock = _Clock(report)
+    clock = _Clock(report, options.progress)
     t0 = time.perf_counter()
 
     with clock("setup"):

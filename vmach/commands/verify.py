@@ -5,14 +5,20 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from pathlib import Path
 
 from vmach import coverage
 from vmach.errors import InputError
 from vmach.motion.timing import format_seconds
 from vmach.output import atomic_writer, make_dir, writable_dir
+from vmach.progress import Progress
 from vmach.tol import ACCURACY, tol
 from vmach.verify import VerifyOptions, verify
+
+#: the phases of a run, in order (for the progress bar's length)
+PHASES = ("setup", "interpret", "move_table", "checks", "cycle_time", "stock", "collisions", "profile",
+          "pictures", "report")
 
 HELP = "verify a program on a machine: limits, collisions, stock, profile, cycle time, report"
 
@@ -57,7 +63,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "the vmach.toml's accuracy, else standard",
     )
     p.add_argument("--max-blocks", type=int, default=tol.max_blocks)
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress (else: bars on a terminal, one line a phase with its time on stderr)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -66,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.clearance >= 0:
         raise InputError("--clearance must be a distance >= 0 mm", kind="usage")
     out = writable_dir(args.out if args.out else Path("out") / Path(args.program).stem)
+    progress = Progress.for_stream("verify", args.quiet, PHASES)
     options = VerifyOptions(
         machine=args.machine,
         tools=args.tools,
@@ -83,8 +91,13 @@ def run(args: argparse.Namespace) -> int:
         accuracy=args.accuracy,
         dialect=args.dialect,
         default_tool=args.default_tool,
+        progress=progress,
     )
-    report = verify(args.program, options)
+    try:
+        report = verify(args.program, options)
+    except BaseException:
+        progress.close(finished=False)
+        raise
     data = report.to_json()
     args.exit_code = 1 if report.errors else 0    # known before the output (a closed pipe keeps it)
     make_dir(out)
@@ -92,6 +105,13 @@ def run(args: argparse.Namespace) -> int:
     with atomic_writer(out / "report.json") as fh:
         json.dump(data, fh, indent=2, ensure_ascii=False)
         fh.write("\n")
+    from vmach.report.html import write_report_html
+
+    progress.start("report")
+    t = time.perf_counter()
+    write_report_html(report, data, out)       # report.html beside it: the same report, shown
+    progress.done("report", time.perf_counter() - t)
+    progress.close()
     if args.format == "json":
         json.dump(data, sys.stdout, indent=2, ensure_ascii=False)
         sys.stdout.write("\n")
@@ -152,5 +172,5 @@ def summary(report, out: Path) -> str:
             f"profile {p['type']} d1={p['d1']}: max |deviation| {p['max_abs_deviation_mm']:.4f} mm, "
             f"band {p['tolerance_mm']}: {'PASS' if p['pass'] else 'FAIL'}"
         )
-    lines.append(f"report: {out / 'report.json'}")
+    lines.append(f"report: {out / 'report.json'} ({out / 'report.html'})")
     return "\n".join(lines)
