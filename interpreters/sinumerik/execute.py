@@ -143,6 +143,11 @@ class Machine:
         #: where motion commands go: ``out``, or the place of a block held for a chamfer
         self.sink: list = out
 
+    def settable_offsets(self, code: str) -> dict[str, float]:
+        """Translations G500/G54... select: the model's zero offsets (the NCK's settable frames
+        replace this when a run has one, see ``nck.Nck.settable_offsets``)."""
+        return {} if code == "G500" else dict(self.control.zero_offsets.get(code, {}))
+
     @property
     def plane_axes(self) -> tuple[str, str, str]:
         """(first, second, normal) axis names of the working plane."""
@@ -235,8 +240,7 @@ class Machine:
                     )
             elif grp == 8:
                 self.offset_code = name
-                offsets = {} if name == "G500" else dict(self.control.zero_offsets.get(name, {}))
-                self.frames.set_settable(offsets)
+                self.frames.set_settable(self.settable_offsets(name))
                 self.emit_frame(src)
             elif grp == 9:
                 suppress = True

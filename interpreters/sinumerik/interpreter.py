@@ -20,6 +20,7 @@ from interpreters.sinumerik.compile import CALL, SECTION, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
 from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
+from interpreters.sinumerik.nck import Nck
 from interpreters.sinumerik.parser import parse_program
 from interpreters.sinumerik.structure import analyse, find_target
 from vmach import canon
@@ -51,6 +52,7 @@ class Level:
     call_src: SourceRef | None = None
     start: int = 0                  # a repeated program section (REPEAT): blocks start..stop-1
     stop: int | None = None
+    passed: tuple = ()              # which PROC parameters the call gave ($P_SUBPAR)
 
 
 def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
@@ -102,6 +104,12 @@ class Interpreter:
         self.findings: list[Finding] = []
         self.machine = Machine(control, self.out)
         self.machine.tool_radius_of = options.tool_radius
+        self.nck = Nck(control, self.machine, options, self.findings, lambda: len(self.stack) - 1,
+                       self.passed)
+        self.env.sys = self.nck
+        self.machine.settable_offsets = self.nck.settable_offsets
+        if options.tool_radius is not None:
+            self.machine.tool_radius_of = self.nck.tool_radius
         self.loaded: dict[str, Loaded] = {}
         self.stack: list[Level] = []
         self.pending: tuple | None = None
@@ -149,6 +157,7 @@ class Interpreter:
                     f"{proc.name} takes {len(proc.params)} argument(s), got {len(args)}",
                     src,
                 )
+            level.passed = tuple(a[0] is not None for a in args)
             for i, p in enumerate(proc.params):
                 value, target = args[i] if i < len(args) else (None, None)
                 variables[p.name] = _convert(p.type, value if value is not None else _default(p.type), p.name)
@@ -259,6 +268,11 @@ class Interpreter:
         loaded = self.load(path, display)
         self.push(loaded, src, args, repeat)
 
+    def passed(self, n: int) -> bool:
+        """$P_SUBPAR[n]: the call gave parameter n (1-based) of the running PROC."""
+        passed = self.stack[-1].passed if self.stack else ()
+        return 1 <= n <= len(passed) and passed[n - 1]
+
     # -- assignments -------------------------------------------------------------------------
     def assign(self, target: b.Target, value) -> None:
         if target.name is None:
@@ -286,6 +300,11 @@ class Interpreter:
 
             return set_ri
         name = target.name
+        if name.startswith("$"):
+            return env.sys.writer(name, [compile_expr(x, env) for x in target.index], target.index[0].col
+                                  if target.index else 1)
+        if name in env.globals:
+            return _global_setter(env, target)
         if not target.index:
 
             def set_var(v):
@@ -331,6 +350,26 @@ class Interpreter:
             )
 
         return missing
+
+
+def _global_setter(env: Env, target: b.Target) -> Callable:
+    """Assignment to a global user variable (GUD)."""
+    name, g = target.name, env.globals
+    fs = [compile_expr(x, env) for x in target.index]
+    if not fs:
+
+        def set_global(v):
+            if isinstance(g[name], list):
+                raise EvalError("type_error", f"{name} is an array; give an index")
+            g[name] = _like(g[name], v, name)
+
+        return set_global
+
+    def set_global_elem(v):
+        lst, i = element(g[name], [f() for f in fs], name)
+        lst[i] = _like(lst[i], v, name)
+
+    return set_global_elem
 
 
 def _default(typ: str):
