@@ -232,7 +232,8 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
     with clock("interpret"):
         dialect = interpreters.dialect_for(path, options.dialect, control.dialect)
         result = dialect.run(str(program), control, RunOptions(
-            max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None))
+            max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None,
+            tool_data=library.data if library is not None else None))
         report.result = result
         report.findings.extend(result.findings)
 
