@@ -15,11 +15,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import tracyl
+from interpreters.sinumerik import definitions, tracyl
 from interpreters.sinumerik.compile import CALL, SECTION, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
-from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
+from interpreters.sinumerik.expr import Env, EvalError, Node, compile_expr, element, num, r_index
 from interpreters.sinumerik.nck import Nck
 from interpreters.sinumerik.parser import parse_program
 from interpreters.sinumerik.structure import analyse, find_target
@@ -56,7 +56,8 @@ class Level:
 
 
 def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
-    program = parse_program(decode_text(read_bytes(path, display)), display, control)
+    gud = definitions.load(path.resolve().parent, control)
+    program = parse_program(decode_text(read_bytes(path, display)), display, control, gud.variables)
     findings = list(program.findings) + analyse(program)
     return Loaded(program, findings)
 
@@ -131,6 +132,7 @@ class Interpreter:
     def run(self) -> RunResult:
         display = str(self.path)
         try:
+            self.define_globals()
             main = self.load(self.path, display)
             self.push(main, SourceRef(display, 1), [])
             self.loop()
@@ -140,6 +142,24 @@ class Interpreter:
             completed = False
         commands = tracyl.apply(flatten(self.out)) if self.machine.placeholders else self.out
         return RunResult(commands, self.machine.notes + self.findings, completed, self.blocks)
+
+    def define_globals(self) -> None:
+        """The global user data of the program's directory, with their initial values."""
+        gud = definitions.load(self.directory, self.control)
+        self.findings.extend(gud.findings)
+        env = self.env
+        for name, d in gud.variables.items():
+            env.globals[name] = _initial(d)
+        for name, d in gud.variables.items():
+            src = gud.sources[name]
+            items = [(b.Target(name=name), d.init)] if d.init is not None else []
+            items += [(b.Target(name=name, index=(Node("num", d.col, k),)), node)
+                      for k, node in enumerate(d.init_list)]
+            for target, node in items:
+                try:
+                    self.setter(target)(compile_expr(node, env)())
+                except EvalError as exc:
+                    raise ProgramError(exc.kind, exc.message, src) from None
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:
@@ -170,7 +190,7 @@ class Interpreter:
                 "call_arguments", f"{program.name} has no PROC header and takes no arguments", src
             )
         for name, d in program.variables.items():
-            if isinstance(d, b.VarDef) and name not in variables:
+            if isinstance(d, b.VarDef) and name not in variables and name not in self.env.globals:
                 variables[name] = _initial(d)
         self.stack.append(level)
         self.env.vars = variables

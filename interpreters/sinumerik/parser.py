@@ -672,11 +672,12 @@ def _machine_code(name: str) -> Code:
     return Code(name, -1, "machine", False, "codes")
 
 
-def parse_program(text: str, path: str, control: ControlSpec) -> b.Program:
-    """Parse a whole program; never raises for bad text (findings collect the problems)."""
+def parse_program(text: str, path: str, control: ControlSpec, known: dict | None = None) -> b.Program:
+    """Parse a whole program; never raises for bad text (findings collect the problems).
+    ``known``: variables defined before the program (global user data, ``definitions.py``)."""
     lines = text.splitlines()
     grammar = Grammar(control)
-    variables: dict = {}
+    variables: dict = dict(known or {})
     blocks: list[b.Block] = []
     findings: list[Finding] = []
     proc: b.ProcHeader | None = None

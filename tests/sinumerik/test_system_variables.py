@@ -1,0 +1,147 @@
+"""System variables and machine data: the virtual NCK (issue 32). Each program follows an
+example of the Siemens manuals (Lists of system variables, Job planning: frames, machine data
+in cycles), written anew; values come out as the axis targets of a final G0."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+from nc import check, error_of, kinds, moves, ok, run
+
+from vmach.canon import ControlSpec, RunOptions, SetVariable
+from vmach.machine.loader import load_model_control
+
+MODELS = Path(__file__).resolve().parents[2] / "models"
+
+
+def last(result) -> dict:
+    return moves(result)[-1].axes
+
+
+def test_machine_data_come_from_the_model(tmp_path):
+    """A cycle reads the travel limits and the basic system of the machine (MD 36100/36110,
+    MD 10240) to decide where to retract."""
+    control = load_model_control(MODELS / "mill5ac.toml")
+    r = ok(tmp_path, "R1=$MA_POS_LIMIT_PLUS[A] R2=$MA_POS_LIMIT_MINUS[AX1]\n"
+           "IF $MN_SCALING_SYSTEM_IS_METRIC==1 GOTOF METRIC\nR3=25.4\nMETRIC:\n"
+           "R4=$MA_MAX_AX_VELO[Z]\nG0 X=R1 Y=R2 Z=R3+R4/1000\nM30\n", control)
+    assert last(r)["X"] == 120.0 and last(r)["Y"] == -325.0 and last(r)["Z"] == 45.0
+    assert not [f for f in r.findings if f.kind == "machine_data_default"]
+
+
+def test_an_undocumented_datum_reads_as_its_default_with_an_info_finding(tmp_path):
+    r = ok(tmp_path, "N10 G0 X=$MN_SCALING_VALUE_INCH\nN20 Y=$MN_SCALING_VALUE_INCH\nM30\n")
+    assert last(r)["X"] == 25.4 and last(r)["Y"] == 25.4
+    notes = [f for f in r.findings if f.kind == "machine_data_default"]
+    assert [(f.severity, f.line, f.source.column, f.data["name"]) for f in notes] == [
+        ("info", 1, 10, "$MN_SCALING_VALUE_INCH")]               # once, at the first read
+
+
+def test_machine_data_table_of_the_model_overrides_the_default(tmp_path):
+    control = ControlSpec(machine_data={"$MN_SCALING_SYSTEM_IS_METRIC": 0,
+                                        "$MA_DRIVE_AX_RATIO_DENOM": {(1, "Z"): 4}})
+    r = ok(tmp_path, "DEF AXIS _Z\n_Z=$P_AXN3\nR1=$MA_DRIVE_AX_RATIO_DENOM[1,_Z]\n"
+           "R2=$MN_SCALING_SYSTEM_IS_METRIC\nG0 X=R1 Y=R2\nM30\n", control)
+    assert (last(r)["X"], last(r)["Y"]) == (4.0, 0.0)
+
+
+def test_settable_frames_are_written_read_and_selected(tmp_path):
+    """Job planning, frames: $P_UIFR[1]=CTRANS(X,10,Y,20) then G54 moves in the offset system;
+    a component is read and written as $P_UIFR[n, axis, TR]; CFINE adds a fine offset."""
+    r = ok(tmp_path, "N10 $P_UIFR[1]=CTRANS(X,10,Y,20,Z,-5)\nN20 $P_UIFR[1,Z,TR]=-7\n"
+           "N30 $P_UIFR[2]=CTRANS(X,1):CFINE(X,0.25)\nN40 G54 G0 X0 Y0 Z0\n"
+           "N50 R1=$P_UIFR[1,X,TR] R2=$P_UIFR[2,X,FI] R3=$P_GG[8]\nN60 G55 G0 X0 Y0 Z0\n"
+           "N70 G500 G0 X=R1 Y=R2 Z=R3\nM30\n")
+    m = moves(r)
+    assert (m[0].axes["X"], m[0].axes["Y"], m[0].axes["Z"]) == (10.0, 20.0, -7.0)
+    assert m[1].axes["X"] == 1.25
+    assert (m[2].axes["X"], m[2].axes["Y"], m[2].axes["Z"]) == (10.0, 0.25, 2.0)   # G54 = group 8 #2
+
+
+def test_frame_chain_translates_in_the_rotated_system(tmp_path):
+    """CTRANS(X,10):CROT(Z,90):CTRANS(X,5): the second offset runs along the turned X (= Y)."""
+    r = ok(tmp_path, "$P_UIFR[3]=CTRANS(X,10):CROT(Z,90):CTRANS(X,5)\n"
+           "G0 X=$P_UIFR[3,X,TR] Y=$P_UIFR[3,Y,TR] Z=$P_UIFR[3,Z,RT]\nM30\n")
+    x, y, z = (last(r)[a] for a in "XYZ")
+    assert math.isclose(x, 10.0, abs_tol=1e-12) and math.isclose(y, 5.0) and math.isclose(z, 90.0)
+
+
+def test_selecting_a_rotated_settable_frame_is_unsupported(tmp_path):
+    r = run(tmp_path, "N10 $P_UIFR[1]=CROT(Z,30)\nN20 G54\nM30\n")
+    f = error_of(r)
+    assert (f.kind, f.line) == ("unsupported", 2)
+
+
+def test_model_zero_offsets_are_the_settable_frames(tmp_path):
+    control = ControlSpec(zero_offsets={"G54": {"X": 100.0}, "G505": {"Y": 7.0}})
+    r = ok(tmp_path, "G0 X=$P_UIFR[1,X,TR] Y=$P_UIFR[5,Y,TR]\nM30\n", control)
+    assert (last(r)["X"], last(r)["Y"]) == (100.0, 7.0)
+
+
+def test_p_gg_gives_the_active_code_of_a_group(tmp_path):
+    """$P_GG[6] 1/2/3 for G17/G18/G19 (as cycles test the plane), [14] G90/G91, [13] G70/G71."""
+    r = ok(tmp_path, "G18 G91 G55\nR1=$P_GG[6] R2=$P_GG[14] R3=$P_GG[8]\nG17 G90 G70\n"
+           "R4=$P_GG[6] R5=$P_GG[13] R6=$P_GG[1]\nG71 G500 G0 X=R1*10+R2 Y=R3 Z=R4*100+R5*10+R6\nM30\n")
+    assert (last(r)["X"], last(r)["Y"], last(r)["Z"]) == (22.0, 3.0, 111.0)
+
+
+def test_programmed_end_point_and_actual_values(tmp_path):
+    """$P_EP is in the work system (after G54), $AA_IM in the machine system; DIAMON doubles X."""
+    control = ControlSpec(zero_offsets={"G54": {"X": 5.0, "Z": 100.0}}, transverse="X")
+    r = ok(tmp_path, "G54 G0 X20 Z-3\nR1=$P_EP[X] R2=$AA_IM[X] R3=$AA_IW[Z]\nDIAMON\nR4=$P_EP[X]\n"
+           "G500 DIAMOF G0 X=R1 Y=R2 Z=R3*1000+R4\nM30\n", control)
+    assert (last(r)["X"], last(r)["Y"], last(r)["Z"]) == (20.0, 25.0, -3000.0 + 40.0)
+
+
+def test_synchronised_action_variables_and_plc_writes(tmp_path):
+    """$AC_MARKER and $AC_PARAM keep what was written; a PLC write ($A_OUT, $A_DBB) is recorded
+    in the trace at its line; $A_IN reads the model's value, else 0."""
+    control = ControlSpec(machine_data={"$A_IN": {2: 1}})
+    r = ok(tmp_path, "N10 $AC_MARKER[1]=3 $AC_PARAM[0]=2.5\nN20 $A_OUT[4]=1\nN30 $A_DBB[10]=255\n"
+           "N40 G0 X=$AC_MARKER[1] Y=$AC_PARAM[0] Z=$A_IN[2]*10+$A_IN[1]\nM30\n", control)
+    assert (last(r)["X"], last(r)["Y"], last(r)["Z"]) == (3.0, 2.5, 10.0)
+    sets = [(c.name, c.value, c.source.line) for c in r.commands if isinstance(c, SetVariable)]
+    assert sets == [("$A_OUT[4]", 1, 2), ("$A_DBB[10]", 255, 3)]
+    assert not [f for f in r.findings if f.kind == "machine_data_default"]
+
+
+def test_tool_data_from_the_library_and_written_by_the_program(tmp_path):
+    """$TC_DP6[T,D] is the radius, $TC_DP3 the length; a program that writes $TC_DP6 sets the
+    radius tool radius compensation uses."""
+    data = {("1", 1): {"name": "1", "type": "ball", "length": 80.0, "radius": 5.0}}
+    opts = RunOptions(tool_radius=lambda t, d: data[(t, d)]["radius"] if (t, d) in data else None,
+                      tool_data=lambda t, d: data.get((t, d)))
+    r = run(tmp_path, "T1 D1\nR1=$TC_DP6[1,1] R2=$TC_DP3[1,1] R3=$TC_DP1[1,1]\n"
+            "$TC_DP6[1,1]=2\nG0 X0 Y0\nG41 G1 X20 Y0 F100\nG40 G0 X=R1 Y=R2 Z=R3\nM30\n", options=opts)
+    assert r.completed, r.findings
+    m = moves(r)
+    assert m[1].axes["Y"] == pytest.approx(2.0)                  # offset by the written radius
+    assert (last(r)["X"], last(r)["Y"], last(r)["Z"]) == (5.0, 80.0, 110.0)
+
+
+def test_program_state_of_a_subprogram_call(tmp_path):
+    """$P_SUBPAR[n] tells whether the call gave parameter n (SUB(1,,3))."""
+    r = ok(tmp_path, "SUB(1,,3)\nM30\n",
+           SUB_DOT_SPF="PROC SUB(REAL A, REAL B, REAL C)\nG0 X=$P_SUBPAR[1] Y=$P_SUBPAR[2] "
+           "Z=$P_SUBPAR[3]+$P_STACK*10\nRET\n")
+    assert (last(r)["X"], last(r)["Y"], last(r)["Z"]) == (1.0, 0.0, 11.0)
+
+
+def test_a_run_is_never_a_search_test_or_dry_run(tmp_path):
+    r = ok(tmp_path, "IF $P_SEARCH OR $P_DRYRUN OR $P_ISTEST\nG0 X1\nELSE\nG0 X2\nENDIF\n"
+           "F250 S1200 M3\nG0 Y=$P_F Z=$P_S[1]\nM30\n")
+    assert (last(r)["X"], last(r)["Y"], last(r)["Z"]) == (2.0, 250.0, 1200.0)
+
+
+def test_read_only_and_unknown_variables_in_check(tmp_path):
+    """Writing a read-only variable is read_only; an unknown system variable is unsupported,
+    the same kind whether read or written."""
+    found = check(tmp_path, "N10 $P_EP[X]=1\nN20 R1=$P_NOSUCH\nN30 $P_NOSUCH=1\nN40 R2=$P_GG\nM30\n")
+    assert kinds(found, "error") == [("read_only", 1), ("unsupported", 2), ("unsupported", 3), ("syntax", 4)]
+
+
+def test_a_frame_is_no_number(tmp_path):
+    f = error_of(run(tmp_path, "N10 R1=$P_UIFR[1]+1\nM30\n"))
+    assert (f.kind, f.line) == ("type_error", 1)
