@@ -27,6 +27,8 @@ Schema (all lengths mm, angles degrees, rates per minute; see ``docs/kinematics.
     [positions.tool_change]  X = 325.0, Y = 0.0    # named machine positions (G53 values)
     [timing]  tool_change_s, spindle_start_s, ..., [timing.cycles] C_AXIS_ON = 2.0  (seconds;
               see vmach.machine.spec.TimingSpec)
+    [machine_data]  MC_TRAFO_TYPE_1 = 24, MA_POS_LIMIT_PLUS = { X = 500.0 } ... (the control's
+              machine, setting, swivel and PLC data; see vmach.machine.machdata)
 
 A value that refers to a parameter is a string: ``"name"`` or ``"-name"``; nothing is evaluated.
 """
