@@ -85,8 +85,8 @@ def test_lathe_is_x_radius_z_and_c():
 
 
 PROGRAMS = {
-    "mill3": "G17 G54 G90 T1 D1 M6\nS3000 M3\nG0 X=-500 Y=-250 Z=-100\nG1 Z=-120 F500\n"
-             "G2 X=-480 Y=-250 CR=10\nR1=$MA_POS_LIMIT_MINUS[X]\nG0 Z=-1\nM30\n",
+    "mill3": "G17 G54 G90 T1 D1 M6\nS3000 M3\nG0 X=-300 Y=-150 Z=100\nG1 Z=-20 F500\n"
+             "G2 X=-280 Y=-150 CR=10\nG0 Z=$MA_POS_LIMIT_PLUS[Z]-10\nM30\n",
     "mill5ac": "G54 G90\nG0 X0 Y0 Z100 A0 C0\nG0 A=$MA_POS_LIMIT_PLUS[A]-30 C=90\n"
                "G1 X10 Z50 F1000\nG0 A0 C0\nM30\n",
     "lathe": "G18 G54 G90 DIAMON\nT1 D1\nS1000 M3\nG0 X80 Z5\nG1 Z-40 F0.2\nG0 X200 Z300\nM30\n",
@@ -104,3 +104,41 @@ def test_a_program_runs_on_each_new_machine(tmp_path, name):
     assert moves and set(moves[-1].axes) == set(model(name).axes) | ({"Y"} if name == "lathe" else set())
     if name == "mill5ac":
         assert any(c.axes["A"] == 90.0 for c in moves)
+
+
+SLOT = """T="EM10" D1
+G17 G90 G0 Z50
+{turn}G0 X-30 Y0
+G0 Z5
+S3000 M3
+G1 Z=$MA_POS_LIMIT_MINUS[Z]/10 F500
+G1 X30
+G0 Z50
+M30
+"""
+
+
+@pytest.mark.parametrize("name, turn, along", [("mill3", "", 0), ("mill5ac", "G0 C90\n", 1)])
+def test_verify_cuts_a_slot_on_the_mills(tmp_path, name, turn, along):
+    """A 60 mm slot, Ø10, 5 mm deep (the depth read from machine data: Z travel −50 on mill3;
+    mill5ac's C is endless so the depth comes from Z's −200 → 20 mm, limited by the stock to its
+    10 mm): on mill5ac after C90 the table has turned, so the slot runs along the part's Y."""
+    import trimesh
+
+    from vmach.cli import main
+
+    (tmp_path / "tools.toml").write_text('[[tool]]\nname = "EM10"\ntype = "flat"\ndiameter = 10.0\n'
+                                         'cutting_length = 30.0\n')
+    prog = tmp_path / "SLOT.MPF"
+    prog.write_text(SLOT.format(turn=turn))
+    removed = tmp_path / "removed.stl"
+    code = main(["verify", str(prog), "--machine", name, "--tools", str(tmp_path / "tools.toml"),
+                 "--stock", "box:xmin=-50,xmax=50,ymin=-50,ymax=50,zmin=-10,zmax=0",
+                 "--export", str(removed), "--out", str(tmp_path / "o"), "--no-images", "--quiet"])
+    assert code == 0
+    mesh = trimesh.load(removed)
+    lo, hi = mesh.bounds
+    depth = 5.0 if name == "mill3" else 10.0
+    assert hi[along] - lo[along] == pytest.approx(70.0, abs=0.02)      # 60 mm + the Ø10
+    assert hi[1 - along] - lo[1 - along] == pytest.approx(10.0, abs=0.02)
+    assert lo[2] == pytest.approx(-depth, abs=1e-6)
