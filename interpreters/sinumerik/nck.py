@@ -95,6 +95,10 @@ class Nck:
             "$P_MC": lambda v, i: int(machine.mcall is not None), "$P_SMODE": lambda v, i: 1,
             "$P_CHANNO": lambda v, i: 1, "$P_STACK": lambda v, i: self.depth(),
             "$P_TRAFO": _zero, "$P_UIFRNUM": lambda v, i: settable_index(machine.offset_code),
+            "$P_TOOLP": lambda v, i: _tool_number(machine.tool),
+            "$P_TOOLL": lambda v, i: self._active_dp(2 + i[0]) if 1 <= i[0] <= 3 else 0.0,
+            "$P_AD": lambda v, i: self._active_dp(i[0]),
+            "$P_NUM_SPINDLES": lambda v, i: len(machine.spindles),
         }
 
     # -- compiling: closures for a read and a write -------------------------------------------
@@ -189,8 +193,11 @@ class Nck:
             return self._work(idx[0])
         if name in ("$AC_SGEAR", "$AA_SCPAR"):
             return 1                # gear stage / parameter set 1: vmach models no gears
-        if name == "$AC_TIME":
-            return 0.0
+        if name == "$AA_S":        # actual speed: the programmed one, 0 while stopped
+            speed, state = self.machine.spindles.get(idx[0] if idx else self.machine.master, (0.0, "stop"))
+            return speed if state != "stop" else 0.0
+        if name == "$AC_MSNUM":
+            return self.machine.master
         return self.written.get((name, idx[0] if idx else ()), var.default)
 
     def _tool(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
@@ -212,7 +219,9 @@ class Nck:
 
     def _frame(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
         name = var.name
-        if name == "$P_UIFR":
+        if name == "$P_BFRAME":                   # vmach models no basic frame
+            frame = sysframes.NEUTRAL
+        elif name == "$P_UIFR":
             frame = self._uifr(idx[0])
             idx = idx[1:]
         elif name == "$P_IFRAME":
@@ -232,7 +241,10 @@ class Nck:
 
     # -- writes ---------------------------------------------------------------------------------
     def store(self, var: SysVar, idx: tuple, value: Any, src: SourceRef) -> None:
-        if var.kind == "frame":                   # only $P_UIFR is writable
+        if var.name == "$P_PFRAME":
+            self._set_pframe(value, idx, src)
+            return
+        if var.kind == "frame":                   # $P_UIFR
             if len(idx) == 1:
                 if not isinstance(value, Frame):
                     raise EvalError("type_error", f"$P_UIFR[{idx[0]}] takes a frame (CTRANS(...) ...)")
@@ -252,6 +264,22 @@ class Nck:
         if var.kind == "plc":
             text = f"{var.name}[{', '.join(map(str, idx))}]" if idx else var.name
             self.machine.sink.append(canon.SetVariable(src, name=text, value=value))
+
+    def _set_pframe(self, value: Any, idx: tuple, src: SourceRef) -> None:
+        """``$P_PFRAME = frame`` (or one component): the programmable frame, as TRANS/ROT ... set
+        it (``Frames``: machine = settable + t + R·p)."""
+        m = self.machine
+        if idx:
+            fr = m.frames
+            value = sysframes.from_state(fr.trans, fr.rot, m.geometry).with_component(
+                idx[0], idx[1], _real(value, "$P_PFRAME"))
+        if not isinstance(value, Frame):
+            raise EvalError("type_error", "$P_PFRAME takes a frame (CTRANS(...) ...)")
+        m.frames.trans = value.offsets()
+        m.frames.rot = value.linear(m.geometry)
+        m.frames.refresh()
+        m.emit_frame(src)
+        m.refresh_plain()
 
     # -- what other parts of the interpreter ask ----------------------------------------------
     def settable_offsets(self, code: str) -> dict[str, float]:
@@ -295,6 +323,14 @@ class Nck:
             return 0.0
         r = m.tool_radius_of(m.tool, m.edge)
         return float(r) if r is not None else 0.0
+
+    def _active_dp(self, k: int) -> Any:
+        """``$TC_DP<k>`` of the active tool and D number (0 without one)."""
+        m = self.machine
+        number = _tool_number(m.tool)
+        if not number or not m.edge or not 1 <= k <= 25:
+            return 0.0
+        return self._tool(CATALOG[f"$TC_DP{k}"], (number, m.edge), self.src)
 
     def _gg(self, var: SysVar, idx: tuple) -> int:
         group = idx[0]

@@ -145,3 +145,26 @@ def test_read_only_and_unknown_variables_in_check(tmp_path):
 def test_a_frame_is_no_number(tmp_path):
     f = error_of(run(tmp_path, "N10 R1=$P_UIFR[1]+1\nM30\n"))
     assert (f.kind, f.line) == ("type_error", 1)
+
+
+def test_writing_the_programmable_frame_moves_like_trans_and_rot(tmp_path):
+    """$P_PFRAME=CTRANS(X,10):CROT(Z,90) is TRANS X10 followed by AROT Z90."""
+    a = ok(tmp_path, "$P_PFRAME=CTRANS(X,10):CROT(Z,90)\nG0 X5 Y0\nR1=$P_PFRAME[X,TR]\nG0 X=R1 Y1\nM30\n")
+    b = ok(tmp_path, "TRANS X10\nAROT Z90\nG0 X5 Y0\nG0 X10 Y1\nM30\n")
+    for ma, mb in zip(moves(a), moves(b), strict=True):
+        assert [ma.axes[k] for k in "XYZ"] == pytest.approx([mb.axes[k] for k in "XYZ"], abs=1e-12)
+    assert moves(a)[0].axes["X"] == pytest.approx(10.0) and moves(a)[0].axes["Y"] == pytest.approx(5.0)
+
+
+def test_workpiece_counter_clock_and_active_tool_data(tmp_path):
+    """A shop program counts parts ($AC_ACTUAL_PARTS); the clock reads a fixed instant;
+    $P_AD[6] and $P_TOOLL[1] are the active edge's radius and length; $AA_S the speed."""
+    data = {("3", 2): {"name": "3", "type": "flat", "length": 95.0, "radius": 4.0}}
+    opts = RunOptions(tool_data=lambda t, d: data.get((t, d)))
+    r = run(tmp_path, "$AC_ACTUAL_PARTS=$AC_ACTUAL_PARTS+1\nT3 D2\nS800 M3\n"
+            "G0 X=$AC_ACTUAL_PARTS*1000+$A_YEAR Y=$P_AD[6]*100+$P_TOOLL[1] Z=$AA_S[1]+$P_TOOLP\n"
+            "M5\nG0 X=$AA_S\nM30\n", options=opts)
+    assert r.completed, r.findings
+    m = moves(r)
+    assert (m[0].axes["X"], m[0].axes["Y"], m[0].axes["Z"]) == (3000.0, 495.0, 803.0)
+    assert m[1].axes["X"] == 0.0
