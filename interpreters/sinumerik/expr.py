@@ -586,12 +586,11 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
         return _compile_system(node, env)
     if op == "var":
         name = node.value
-        if name in env.globals:
-            return _compile_global(node, env)
+        scope = scope_of(name, env)
         if not node.args:
 
             def get():
-                v = env.vars[name]
+                v = scope.vars[name]
                 if v.__class__ is list:
                     raise EvalError("type_error", f"{name} is an array; give an index")
                 return v
@@ -600,7 +599,7 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
         fs = [compile_expr(a, env) for a in node.args]
 
         def get_elem():
-            lst, i = element(env.vars[name], [f() for f in fs], name)
+            lst, i = element(scope.vars[name], [f() for f in fs], name)
             return lst[i]
 
         return get_elem
@@ -672,22 +671,17 @@ def _compile_system(node: Node, env: Env) -> Callable[[], Any]:
     return nck.reader(node.value, fs, node.col)
 
 
-def _compile_global(node: Node, env: Env) -> Callable[[], Any]:
-    """A global user variable (GUD): ``env.globals`` instead of the level's variables."""
-    name, g = node.value, env.globals
-    if not node.args:
 
-        def get():
-            v = g[name]
-            if v.__class__ is list:
-                raise EvalError("type_error", f"{name} is an array; give an index")
-            return v
+class GlobalScope:
+    """Where a global user variable (GUD) lives: ``vars`` is ``Env.globals`` (a compiled read
+    or write of a level's own variable looks in ``Env.vars`` instead, which changes per level)."""
 
-        return get
-    fs = [compile_expr(a, env) for a in node.args]
+    __slots__ = ("vars",)
 
-    def get_elem():
-        lst, i = element(g[name], [f() for f in fs], name)
-        return lst[i]
+    def __init__(self, variables: dict[str, Any]) -> None:
+        self.vars = variables
 
-    return get_elem
+
+def scope_of(name: str, env: Env) -> Env | GlobalScope:
+    """The object whose ``vars`` hold variable ``name``: a GUD's scope, else ``env``."""
+    return GlobalScope(env.globals) if name in env.globals else env

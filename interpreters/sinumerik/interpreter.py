@@ -19,7 +19,7 @@ from interpreters.sinumerik import definitions, tracyl
 from interpreters.sinumerik.compile import CALL, SECTION, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
-from interpreters.sinumerik.expr import Env, EvalError, Node, compile_expr, element, num, r_index
+from interpreters.sinumerik.expr import Env, EvalError, Node, compile_expr, element, num, r_index, scope_of
 from interpreters.sinumerik.nck import Nck
 from interpreters.sinumerik.parser import parse_program
 from interpreters.sinumerik.structure import analyse, find_target
@@ -323,12 +323,11 @@ class Interpreter:
         if name.startswith("$"):
             return env.sys.writer(name, [compile_expr(x, env) for x in target.index], target.index[0].col
                                   if target.index else 1)
-        if name in env.globals:
-            return _global_setter(env, target)
+        scope = scope_of(name, env)
         if not target.index:
 
             def set_var(v):
-                d = env.vars
+                d = scope.vars
                 old = d[name]
                 if v.__class__ is old.__class__ and v.__class__ is not list:
                     d[name] = v
@@ -341,7 +340,7 @@ class Interpreter:
         fs = [compile_expr(x, env) for x in target.index]
 
         def set_elem(v):
-            lst, i = element(env.vars[name], [f() for f in fs], name)
+            lst, i = element(scope.vars[name], [f() for f in fs], name)
             lst[i] = _like(lst[i], v, name)
 
         return set_elem
@@ -370,26 +369,6 @@ class Interpreter:
             )
 
         return missing
-
-
-def _global_setter(env: Env, target: b.Target) -> Callable:
-    """Assignment to a global user variable (GUD)."""
-    name, g = target.name, env.globals
-    fs = [compile_expr(x, env) for x in target.index]
-    if not fs:
-
-        def set_global(v):
-            if isinstance(g[name], list):
-                raise EvalError("type_error", f"{name} is an array; give an index")
-            g[name] = _like(g[name], v, name)
-
-        return set_global
-
-    def set_global_elem(v):
-        lst, i = element(g[name], [f() for f in fs], name)
-        lst[i] = _like(lst[i], v, name)
-
-    return set_global_elem
 
 
 def _default(typ: str):

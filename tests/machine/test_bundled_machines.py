@@ -4,23 +4,16 @@ its description, limits, rates and [machine_data]; FK/IK hold and programs run o
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 from machine.machine_helpers import model, random_q
-from scipy.spatial.transform import Rotation
+from machine.test_machine_fk import MODELS, rot
 
 from interpreters import sinumerik
 from vmach.canon import MOTIONS, RunOptions
 from vmach.machine.loader import load_model_control
 
 NEW = ("mill3", "mill5ac", "lathe")
-MODELS = Path(__file__).resolve().parents[2] / "models"
-
-
-def rot(axis, deg):
-    return Rotation.from_rotvec(np.outer(np.radians(deg), axis)).as_matrix()
 
 
 @pytest.mark.parametrize("name", NEW)
