@@ -118,7 +118,7 @@ FUNCTIONS: dict[str, tuple[int, int]] = {
     "BOUND": (3, 3),
 }
 #: frame functions (their arguments are axis names and values; see sysframes.py)
-FRAME_FUNCTIONS = frozenset({"CTRANS", "CROT", "CSCALE", "CMIRROR", "CFINE"})
+FRAME_FUNCTIONS = frozenset({"CTRANS", "CROT", "CSCALE", "CMIRROR", "CFINE", "CRPL"})
 
 
 def depth(node: Node) -> int:

@@ -73,6 +73,7 @@ class Nck:
         self.written: dict[tuple[str, Any], Any] = {}
         self.noted: set[str] = set()
         self.uifr: dict[int, Frame] = {}
+        self.ifr: Frame = sysframes.NEUTRAL      # the active settable frame ($P_IFRAME)
         for code, offsets in control.zero_offsets.items():
             if code in SETTABLE or (code[1:].isdigit() and 505 <= int(code[1:]) <= 599):
                 self.uifr[settable_index(code)] = Frame(tr=dict(offsets))
@@ -123,8 +124,10 @@ class Nck:
         return write
 
     def frame_function(self, name: str, fs: list[Callable[[], Any]]) -> Callable[[], Frame]:
-        geometry = self.machine.geometry
-        return lambda: sysframes.make(name, [f() for f in fs], geometry)
+        m = self.machine
+        if name == "CRPL":
+            return lambda: sysframes.crpl([f() for f in fs], m.geometry, m.plane_axes[2])
+        return lambda: sysframes.make(name, [f() for f in fs], m.geometry)
 
     def chain(self, a: Any, b: Any) -> Frame:
         return sysframes.chain(a, b, self.machine.geometry)
@@ -225,13 +228,12 @@ class Nck:
             frame = self._uifr(idx[0])
             idx = idx[1:]
         elif name == "$P_IFRAME":
-            frame = self.uifr.get(settable_index(self.machine.offset_code), sysframes.NEUTRAL)
+            frame = self.ifr
         else:
             fr = self.machine.frames
             frame = sysframes.from_state(fr.trans, fr.rot, self.machine.geometry)
             if name == "$P_ACTFRAME":
-                frame = self.chain(self.uifr.get(settable_index(self.machine.offset_code), sysframes.NEUTRAL),
-                                   frame)
+                frame = self.chain(self.ifr, frame)
         return frame.get(idx[0], idx[1]) if idx else frame
 
     def _uifr(self, n: int) -> Frame:
@@ -243,6 +245,13 @@ class Nck:
     def store(self, var: SysVar, idx: tuple, value: Any, src: SourceRef) -> None:
         if var.name == "$P_PFRAME":
             self._set_pframe(value, idx, src)
+            return
+        if var.name == "$P_IFRAME":                # the active settable frame, at once
+            frame = self.ifr.with_component(idx[0], idx[1], _real(value, var.name)) if idx else value
+            if not isinstance(frame, Frame):
+                raise EvalError("type_error", "$P_IFRAME takes a frame (CTRANS(...) ...)")
+            self.machine.frames.set_settable(self._activate(frame, "$P_IFRAME"))
+            self.machine.emit_frame(src)
             return
         if var.kind == "frame":                   # $P_UIFR
             if len(idx) == 1:
@@ -284,10 +293,13 @@ class Nck:
     # -- what other parts of the interpreter ask ----------------------------------------------
     def settable_offsets(self, code: str) -> dict[str, float]:
         """Translations of the settable frame G500/G54... selects (for ``Frames.set_settable``)."""
-        frame = self.uifr.get(settable_index(code), sysframes.NEUTRAL)
+        return self._activate(self.uifr.get(settable_index(code), sysframes.NEUTRAL), code)
+
+    def _activate(self, frame: Frame, what: str) -> dict[str, float]:
         if not frame.translation_only:
-            raise EvalError("unsupported", f"{code}: the settable frame has a rotation, scale or "
+            raise EvalError("unsupported", f"{what}: the settable frame has a rotation, scale or "
                             "mirror; vmach simulates settable frames that translate only")
+        self.ifr = frame
         return frame.offsets()
 
     def tool_radius(self, tool: str, d: int) -> float | None:

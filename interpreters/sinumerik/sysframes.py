@@ -20,7 +20,7 @@ from interpreters.sinumerik.expr import EvalError
 from interpreters.sinumerik.frames import IDENTITY, Matrix, apply, diagonal, matmul, rpy
 
 COMPONENTS = ("TR", "FI", "RT", "SC", "MI")
-FUNCTIONS = ("CTRANS", "CROT", "CSCALE", "CMIRROR", "CFINE")
+FUNCTIONS = ("CTRANS", "CROT", "CSCALE", "CMIRROR", "CFINE", "CRPL")
 
 
 @dataclass(frozen=True, slots=True, eq=True)
@@ -114,6 +114,18 @@ def make(name: str, args: list, geometry: tuple[str, str, str]) -> Frame:
         if axis not in geometry:
             raise EvalError("invalid_value", f"CROT: {axis} is not a geometry axis")
     return Frame(rt=values)
+
+
+def crpl(args: list, geometry: tuple[str, str, str], normal: str) -> Frame:
+    """CRPL(plane, angle): a rotation in a plane — 0 the working plane (about ``normal``), 1
+    about the third geometry axis, 2 about the second, 3 about the first."""
+    if len(args) != 2 or any(isinstance(a, str | Frame) for a in args):
+        raise EvalError("syntax", "CRPL takes a plane number and an angle")
+    plane, angle = args
+    if plane not in (0, 1, 2, 3):
+        raise EvalError("invalid_value", f"CRPL: plane {plane} is not 0..3")
+    axis = normal if plane == 0 else geometry[3 - int(plane)]
+    return Frame(rt={axis: float(angle)})
 
 
 def chain(a: Frame, b: Frame, geometry: tuple[str, str, str]) -> Frame:

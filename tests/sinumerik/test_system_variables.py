@@ -168,3 +168,19 @@ def test_workpiece_counter_clock_and_active_tool_data(tmp_path):
     m = moves(r)
     assert (m[0].axes["X"], m[0].axes["Y"], m[0].axes["Z"]) == (3000.0, 495.0, 803.0)
     assert m[1].axes["X"] == 0.0
+
+
+def test_the_active_settable_frame_is_written_at_once(tmp_path):
+    """Writing $P_IFRAME acts at once (no G54 needed) and leaves $P_UIFR[1] as it was; the
+    next G54 selects the stored frame again (Function Manual K2, settable frames)."""
+    control = ControlSpec(zero_offsets={"G54": {"X": 100.0}})
+    r = ok(tmp_path, "G54 G0 X0\n$P_IFRAME[X,TR]=50\nG0 X0\nG0 Y=$P_UIFR[1,X,TR]\nG54 G0 X0\nM30\n", control)
+    assert [m.axes["X"] for m in moves(r)] == [100.0, 50.0, 50.0, 100.0]
+    assert moves(r)[2].axes["Y"] == 100.0
+
+
+def test_crpl_rotates_in_the_working_plane(tmp_path):
+    """CRPL(0, 30) under G18 turns about Y; CRPL(1, 45) about Z."""
+    r = ok(tmp_path, "G18\n$P_UIFR[1]=CRPL(0,30)\n$P_UIFR[2]=CTRANS(X,1):CRPL(1,45)\n"
+           "G17 G0 X=$P_UIFR[1,Y,RT] Y=$P_UIFR[2,Z,RT] Z=$P_UIFR[1,Z,RT]\nM30\n")
+    assert [last(r)[a] for a in "XYZ"] == pytest.approx([30.0, 45.0, 0.0])
