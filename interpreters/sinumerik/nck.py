@@ -25,6 +25,7 @@ kind of variable (see ``sysvars.toml``):
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable
 from typing import Any
 
@@ -43,6 +44,7 @@ TOOL_TYPES = {"flat": 120, "face": 140, "ball": 110, "bull": 121, "chamfer": 155
 #: $P_GG for a group vmach does not keep: its first code, the control's usual reset value
 UNTRACKED_GROUP = 1
 SETTABLE = ("G500", "G54", "G55", "G56", "G57")
+LOOSE_AXIS = re.compile(r"^[ABCUVWXYZ]\d*$")
 
 
 def settable_code(n: int) -> str | None:
@@ -159,6 +161,8 @@ class Nck:
                 return a
             if a.startswith("AX") and a[2:].isdigit() and 1 <= int(a[2:]) <= len(names):
                 return names[int(a[2:]) - 1]
+            if not self.control.strict_axes and LOOSE_AXIS.match(a):
+                return a            # no machine given: any axis letter is an axis (as in words)
             raise EvalError("unknown_axis", f"{what}[{v}]: {v} is not an axis of this machine")
         if v == int(v) and 1 <= v <= len(names):
             return names[int(v) - 1]

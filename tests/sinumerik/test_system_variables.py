@@ -5,12 +5,13 @@ in cycles), written anew; values come out as the axis targets of a final G0."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 from nc import check, error_of, kinds, moves, ok, run
 
-from vmach.canon import ControlSpec, RunOptions, SetVariable
+from vmach.canon import DEFAULT_CONTROL, ControlSpec, RunOptions, SetVariable
 from vmach.machine.loader import load_model_control
 
 MODELS = Path(__file__).resolve().parents[2] / "models"
@@ -184,3 +185,13 @@ def test_crpl_rotates_in_the_working_plane(tmp_path):
     r = ok(tmp_path, "G18\n$P_UIFR[1]=CRPL(0,30)\n$P_UIFR[2]=CTRANS(X,1):CRPL(1,45)\n"
            "G17 G0 X=$P_UIFR[1,Y,RT] Y=$P_UIFR[2,Z,RT] Z=$P_UIFR[1,Z,RT]\nM30\n")
     assert [last(r)[a] for a in "XYZ"] == pytest.approx([30.0, 45.0, 0.0])
+
+
+def test_axis_indices_by_name_number_and_loose_letter(tmp_path):
+    """$AA_IM[AX2] and $AA_IM[2] are the second machine axis; without a machine any axis letter
+    is an axis, with one an axis it lacks is unknown_axis."""
+    r = ok(tmp_path, "G0 X1 Y2 Z3\nG0 X=$AA_IM[AX2] Y=$AA_IM[3] Z=$P_EP[B]\nM30\n")
+    assert [last(r)[a] for a in "XYZ"] == [2.0, 3.0, 0.0]
+    strict = replace(DEFAULT_CONTROL, strict_axes=True)                  # X Y Z only
+    f = error_of(run(tmp_path, "N10 G0 X1\nN20 R1=$P_EP[B]\nM30\n", strict))
+    assert (f.kind, f.line) == ("unknown_axis", 2)
