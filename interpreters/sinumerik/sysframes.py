@@ -38,7 +38,8 @@ class Frame:
         raise EvalError("type_error", "a FRAME is not a number (use it with ':' or a frame variable)")
 
     __add__ = __radd__ = __sub__ = __rsub__ = __mul__ = __rmul__ = __truediv__ = _no
-    __neg__ = __lt__ = __gt__ = __le__ = __ge__ = __bool__ = _no
+    __neg__ = __pos__ = __abs__ = __lt__ = __gt__ = __le__ = __ge__ = __bool__ = _no
+    __float__ = __int__ = __index__ = __mod__ = __rmod__ = __rtruediv__ = _no
 
     def get(self, axis: str, comp: str) -> float:
         if comp == "TR":

@@ -143,8 +143,13 @@ def test_read_only_and_unknown_variables_in_check(tmp_path):
     assert kinds(found, "error") == [("read_only", 1), ("unsupported", 2), ("unsupported", 3), ("syntax", 4)]
 
 
-def test_a_frame_is_no_number(tmp_path):
-    f = error_of(run(tmp_path, "N10 R1=$P_UIFR[1]+1\nM30\n"))
+@pytest.mark.parametrize("expr", ["$P_UIFR[1]+1", "$P_UIFR[1]", "ABS($P_UIFR[1])", "2/$P_UIFR[1]",
+                                  "$P_UIFR[1] MOD 2", "NOT $P_UIFR[1]", "-$P_UIFR[1]", "1:2",
+                                  "CTRANS(X,1):2", "SIN($P_UIFR[1])", "$AC_MARKER[$P_UIFR[1]]"])
+def test_a_frame_is_no_number(tmp_path, expr):
+    """A frame where a number belongs (or ':' between numbers) is the control's type error,
+    never a traceback."""
+    f = error_of(run(tmp_path, f"N10 R1={expr}\nM30\n"))
     assert (f.kind, f.line) == ("type_error", 1)
 
 
