@@ -27,7 +27,7 @@ def check(path: str | Path, control: ControlSpec = DEFAULT_CONTROL) -> list[Find
     names, jumps, structure, block numbers, unreachable blocks, PROC position."""
     p = Path(path)
     loaded = read_program(p, str(path), control)
-    findings = list(loaded.findings) + list(definitions.load(p.resolve().parent, control).findings)
+    findings = list(loaded.findings) + list(definitions.load(p, str(path), control).findings)
     findings += _names(loaded.program, p.resolve().parent, control)
     return sorted(findings, key=sort_key)
 

@@ -15,7 +15,9 @@ named as the control names them or as a PC copy does: ``_N_UGUD_DEF``, ``UGUD.DE
 ``_N_UGUD_DEF.DEF`` (any case). Their variables exist in every program of the directory with
 their types, initial values and arrays; NCK and CHAN variables are both global (vmach simulates
 one channel). Access attributes (``APR``/``APW`` ...), limits (``LLI``/``ULI``) and ``PHU`` are read
-and have no effect. Macro files (``_N_SMAC_DEF`` ...) are not definition files of variables.
+and have no effect. A definition vmach does not simulate (``DEF NCK FRAME``) is a warning
+(``unsupported_definition``), since the file is valid on the control. Macro files
+(``_N_SMAC_DEF`` ...) are not definition files of variables.
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ from interpreters.sinumerik.parser import BlockParser, Grammar
 from vmach.canon import ControlSpec
 from vmach.errors import ProgramError
 from vmach.files import decode_text, read_bytes
-from vmach.findings import Finding, error
+from vmach.findings import Finding, error, warning
 from vmach.source import SourceRef
 
 #: a GUD file's name: _N_<MODULE>_DEF, <MODULE>.DEF or _N_<MODULE>_DEF.DEF
@@ -71,25 +73,28 @@ def files(directory: Path) -> list[Path]:
     return [p for _, _, p in sorted(found)]
 
 
-def load(directory: Path, control: ControlSpec) -> Definitions:
-    """The global variables defined in ``directory``'s GUD files (cached per file state)."""
+def load(program: Path, display: str, control: ControlSpec) -> Definitions:
+    """The global variables defined in the GUD files beside ``program`` (cached per file
+    state); findings name the files as ``display`` (the program as the user named it) does."""
+    directory = program.resolve().parent
     paths = files(directory)
     if not paths:
         return EMPTY
-    key = (str(directory.resolve()), tuple((str(p), p.stat().st_mtime_ns, p.stat().st_size) for p in paths),
+    key = (str(directory), os.path.dirname(display),
+           tuple((str(p), p.stat().st_mtime_ns, p.stat().st_size) for p in paths),
            tuple(sorted(a.name for a in control.axes)))
     if key not in _cache:
-        _cache[key] = _read(paths, control)
+        _cache[key] = _read(paths, os.path.dirname(display), control)
     return _cache[key]
 
 
-def _read(paths: list[Path], control: ControlSpec) -> Definitions:
+def _read(paths: list[Path], display_dir: str, control: ControlSpec) -> Definitions:
     grammar = Grammar(control)
     variables: dict = {}
     sources: dict[str, SourceRef] = {}
     findings: list[Finding] = []
     for path in paths:
-        display = path.name
+        display = os.path.join(display_dir, path.name)
         try:
             text = decode_text(read_bytes(path, display))
         except Exception as exc:  # an unreadable file is a finding, not a traceback
@@ -105,7 +110,11 @@ def _read(paths: list[Path], control: ControlSpec) -> Definitions:
                 block = b.Block(index=0, line=lineno, text=raw)
                 BlockParser(grammar, variables, src).parse(block, stripped)
             except ProgramError as exc:
-                findings.append(exc.finding)
+                f = exc.finding
+                if f.kind == "unsupported":  # valid on the control: the files are not at fault
+                    f = warning("unsupported_definition", f"{f.message}; a program that uses it stops there",
+                                f.source)
+                findings.append(f)
                 continue
             if block.kind != "def":
                 findings.append(error("syntax", "a definition file holds DEF statements only", src))

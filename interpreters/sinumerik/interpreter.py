@@ -56,7 +56,7 @@ class Level:
 
 
 def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
-    gud = definitions.load(path.resolve().parent, control)
+    gud = definitions.load(path, display, control)
     program = parse_program(decode_text(read_bytes(path, display)), display, control, gud.variables)
     findings = list(program.findings) + analyse(program)
     return Loaded(program, findings)
@@ -145,7 +145,7 @@ class Interpreter:
 
     def define_globals(self) -> None:
         """The global user data of the program's directory, with their initial values."""
-        gud = definitions.load(self.directory, self.control)
+        gud = definitions.load(self.path, str(self.path), self.control)
         self.findings.extend(gud.findings)
         env = self.env
         for name, d in gud.variables.items():

@@ -4,6 +4,8 @@ read from outside the directory. Programs after the manuals' GUD examples, writt
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from nc import check, error_of, kinds, linked_from_outside, moves, ok, run
 
 from interpreters import sinumerik
@@ -46,9 +48,12 @@ def test_without_the_definition_file_the_name_is_undefined(tmp_path):
 
 
 def test_an_error_in_a_definition_file_names_its_line(tmp_path):
-    found = check(tmp_path, "M30\n", _N_UGUD_DEF="%_N_UGUD_DEF\nDEF NCK REAL A\nG1 X10\nDEF NCK BANANA B\n")
-    errs = [(f.kind, f.source.path, f.line) for f in found if f.severity == "error"]
-    assert errs == [("syntax", "_N_UGUD_DEF", 3), ("syntax", "_N_UGUD_DEF", 4)]
+    found = check(tmp_path, "M30\n", _N_UGUD_DEF="%_N_UGUD_DEF\nDEF NCK REAL A\nG1 X10\nDEF NCK BANANA B\n"
+                  "DEF NCK FRAME F\n")
+    errs = [(f.kind, f.severity, Path(f.source.path).name, f.line) for f in found]
+    assert errs == [("syntax", "error", "_N_UGUD_DEF", 3), ("syntax", "error", "_N_UGUD_DEF", 4),
+                    ("unsupported_definition", "warning", "_N_UGUD_DEF", 5)]
+    assert Path(found[0].source.path).parent == tmp_path
 
 
 def test_a_local_definition_of_a_gud_name_is_a_duplicate(tmp_path):
@@ -66,4 +71,4 @@ def test_a_definition_file_linked_from_outside_is_not_read(tmp_path):
 def test_a_bad_initial_value_stops_the_run_at_its_definition(tmp_path):
     r = run(tmp_path, "M30\n", _N_GUD5_DEF="DEF NCK REAL Q=1/0\n")
     f = error_of(r)
-    assert (f.kind, f.source.path, f.line) == ("division_by_zero", "_N_GUD5_DEF", 1)
+    assert (f.kind, Path(f.source.path).name, f.line) == ("division_by_zero", "_N_GUD5_DEF", 1)
