@@ -16,8 +16,9 @@ kind of variable (see ``sysvars.toml``):
   from the model's zero offsets, are written with frame functions and take effect when their
   G code is next programmed (as on the control); the active frames read back.
 - ``main_run``: the interpreter runs without lag, so actual values (``$AA_IM`` machine, ``$AA_IW``
-  work) are the programmed end points, ``$AC_TIME`` is 0; ``$AC_MARKER``, ``$AC_PARAM`` and
-  ``$AC_TIMER`` hold what was written.
+  work) are the programmed end points, ``$AC_TIME`` is 0; ``$AC_MARKER`` and ``$AC_PARAM`` hold
+  what was written; ``$AC_TIMER`` and the run times follow the estimated machining time
+  (``nckclock.py``).
 - ``tool``: ``$TC_DPk[T, D]`` and ``$TC_TPk[T]`` from the tool library; writes override it, and a
   written radius (``$TC_DP6``) is the one tool radius compensation uses.
 """
@@ -31,6 +32,7 @@ from typing import Any
 
 from interpreters.sinumerik import sysframes
 from interpreters.sinumerik.expr import EvalError
+from interpreters.sinumerik.nckclock import Clock
 from interpreters.sinumerik.sysframes import Frame
 from interpreters.sinumerik.sysvars import CATALOG, GROUPS, SysVar
 from vmach import canon
@@ -80,6 +82,10 @@ class Nck:
             if code in SETTABLE or (code[1:].isdigit() and 505 <= int(code[1:]) <= 599):
                 self.uifr[settable_index(code)] = Frame(tr=dict(offsets))
         self.library_radius = options.tool_radius
+        rapid = self.md.get("$MA_MAX_AX_VELO", {})
+        self.clock = Clock(machine.out, machine.pos, rapid if isinstance(rapid, dict) else {},
+                           machine.geometry, machine.master)
+        self.timers: dict[int, tuple[float, float | None]] = {}   # n -> (value, started at s)
         self.read_kind = {
             "machine_data": self._data, "setting_data": self._data, "swivel": self._data,
             "plc": self._data, "program": self._program, "frame": self._frame,
@@ -205,6 +211,14 @@ class Nck:
             return speed if state != "stop" else 0.0
         if name == "$AC_MSNUM":
             return self.machine.master
+        if name in ("$AC_CYCLE_TIME", "$AC_OPERATING_TIME"):
+            return self.clock.now()
+        if name == "$AC_CUTTING_TIME":
+            self.clock.now()
+            return self.clock.cutting
+        if name == "$AC_TIMER":
+            value, since = self.timers.get(idx[0], (0.0, None))
+            return value if since is None else value + self.clock.now() - since
         return self.written.get((name, idx[0] if idx else ()), var.default)
 
     def _tool(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
@@ -271,6 +285,9 @@ class Nck:
             self.written[(var.name, idx)] = value
             if var.name == "$TC_DP6" and self.machine.tool_radius_of is None:
                 self.machine.tool_radius_of = self.tool_radius
+            return
+        if var.name == "$AC_TIMER":   # a value >= 0 starts the timer there, a negative one stops it
+            self.timers[idx[0]] = (value, self.clock.now() if value >= 0 else None)
             return
         key = idx[0] if len(idx) == 1 else idx
         self.written[(var.name, key)] = value

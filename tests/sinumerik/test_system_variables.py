@@ -200,3 +200,27 @@ def test_axis_indices_by_name_number_and_loose_letter(tmp_path):
     strict = replace(DEFAULT_CONTROL, strict_axes=True)                  # X Y Z only
     f = error_of(run(tmp_path, "N10 G0 X1\nN20 R1=$P_EP[B]\nM30\n", strict))
     assert (f.kind, f.line) == ("unknown_axis", 2)
+
+
+def test_a_warm_up_program_waiting_on_a_timer_ends(tmp_path):
+    """Spindle warm-up: start $AC_TIMER[1], dwell 10 s per pass until 60 s have passed — six
+    passes (the timer runs on the dwells and moves the run has made)."""
+    r = ok(tmp_path, "S1000 M3\n$AC_TIMER[1]=0\nR1=0\nWARM:\nG4 F10\nR1=R1+1\n"
+           "IF $AC_TIMER[1]<60 GOTOB WARM\nM5\nG0 X=R1 Y=$AC_CYCLE_TIME\n$AC_TIMER[1]=-1\n"
+           "G4 F5\nG0 Z=$AC_TIMER[1]\nM30\n")
+    assert last(r)["X"] == 6.0 and last(r)["Y"] == pytest.approx(60.0) and last(r)["Z"] == -1.0
+
+
+def test_the_clock_counts_feeds_rapids_and_spindle_revolutions(tmp_path):
+    """G1 100 mm at F600 = 10 s; a rapid of 100 mm at $MA_MAX_AX_VELO 6000 mm/min = 1 s; G95 F0.1
+    at S600 = 60 mm/min, 20 mm = 20 s; a quarter circle of radius 10 at F600 ≈ 1.571 s; G4 S5 at
+    S600 = 0.5 s."""
+    control = ControlSpec(machine_data={"$MA_MAX_AX_VELO": {"X": 6000.0, "Y": 6000.0, "Z": 6000.0}})
+    r = ok(tmp_path, "S600 M3\n$AC_TIMER[2]=0\nG1 X100 F600\nR1=$AC_TIMER[2]\nG0 X0\n"
+           "R2=$AC_TIMER[2]-R1\nG95 G1 X20 F0.1\nR3=$AC_TIMER[2]-R1-R2\nG94 G3 X10 Y10 CR=10 F600\n"
+           "R4=$AC_CUTTING_TIME\nG4 S5\nR5=$AC_CYCLE_TIME-$AC_CUTTING_TIME\n"
+           "G0 X=R1 Y=R2 Z=R3\nG0 X=R4 Y=R5\nM30\n", control)
+    m = moves(r)
+    assert [m[-2].axes[a] for a in "XYZ"] == pytest.approx([10.0, 1.0, 20.0])
+    assert m[-1].axes["X"] == pytest.approx(10.0 + 20.0 + math.pi * 10 / 2 / 10)
+    assert m[-1].axes["Y"] == pytest.approx(1.0 + 0.5)
