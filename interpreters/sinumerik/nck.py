@@ -34,7 +34,7 @@ from interpreters.sinumerik import sysframes
 from interpreters.sinumerik.expr import EvalError
 from interpreters.sinumerik.nckclock import Clock
 from interpreters.sinumerik.sysframes import Frame
-from interpreters.sinumerik.sysvars import CATALOG, GROUPS, SysVar
+from interpreters.sinumerik.sysvars import CATALOG, GROUPS, SysVar, lookup
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions
 from vmach.findings import Finding, info
@@ -112,7 +112,7 @@ class Nck:
 
     # -- compiling: closures for a read and a write -------------------------------------------
     def reader(self, name: str, fs: list[Callable[[], Any]], col: int) -> Callable[[], Any]:
-        var = CATALOG[name]
+        var = lookup(name)
         src = self.src.at(col)
         read = self.read_kind[var.kind]
         shape = var.shape(len(fs))
@@ -121,7 +121,7 @@ class Nck:
         return lambda: read(var, self.index(var, shape, [f() for f in fs]), src)
 
     def writer(self, name: str, fs: list[Callable[[], Any]], col: int) -> Callable[[Any], None]:
-        var = CATALOG[name]
+        var = lookup(name)
         src = self.src.at(col)
         shape = var.shape(len(fs))
 
@@ -146,6 +146,8 @@ class Nck:
         for kind, v in zip(shape or (), values, strict=False):
             if kind == "axis":
                 out.append(self.axis(v, var.name))
+            elif kind == "any":
+                out.append(self._any_index(v))
             elif kind == "comp":
                 c = str(v).upper()
                 if c not in sysframes.COMPONENTS:
@@ -157,6 +159,17 @@ class Nck:
                     raise EvalError("index_range", f"{var.name}[{v}]: the index is a whole number ≥ 0")
                 out.append(int(v))
         return tuple(out)
+
+    def _any_index(self, v: Any) -> Any:
+        """An index of a datum vmach does not list: an axis name if it names one, else the
+        name or the whole number as written."""
+        if isinstance(v, str):
+            a = v.upper()
+            try:
+                return self.axis(a, "")
+            except EvalError:
+                return a
+        return int(v) if v == int(v) else v
 
     def axis(self, v: Any, what: str) -> str:
         """An axis index: a name (``X``, ``AX2``) or a machine axis number (1-based)."""
@@ -186,6 +199,10 @@ class Nck:
                 return table
             if isinstance(table, dict) and key in table:
                 return table[key]
+        if var.default is None:   # not in vmach's list: only the model can give it
+            where = f"{var.name}[{', '.join(map(str, idx))}]" if idx else var.name
+            raise EvalError("unsupported", f"{where}: vmach has no default for this machine or setting "
+                            "datum; give it in the model's [machine_data]")
         if var.kind != "plc" and var.name not in self.noted:
             self.noted.add(var.name)
             where = f"{var.name}[{', '.join(map(str, idx))}]" if idx else var.name

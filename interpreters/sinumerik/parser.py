@@ -275,7 +275,7 @@ class BlockParser:
             except ParseError as exc:
                 raise ProgramError(exc.kind, exc.message, self.src.at(exc.col)) from None
             self.pos = p.pos
-            if not sysvars.CATALOG[name].writable:
+            if not sysvars.lookup(name).writable:
                 self.fail("read_only", f"{name} is read-only for a part program", t.col)
             return b.Target(name=name, index=node.args)
         if name == "R" and self.is_op("["):

@@ -7,6 +7,7 @@ Read once at import. :func:`lookup` is what the expression parser asks; the NCK 
 
 from __future__ import annotations
 
+import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -14,7 +15,7 @@ from typing import Any
 
 KINDS = ("machine_data", "setting_data", "swivel", "program", "frame", "main_run", "plc", "tool")
 TYPES = ("INT", "REAL", "BOOL", "STRING", "AXIS", "FRAME")
-INDEX_KINDS = ("axis", "n", "comp")
+INDEX_KINDS = ("axis", "n", "comp", "any")     # any: an axis name if it is one, else as given
 #: the variables whose type differs from their family's (``$TC_TP2`` is the tool's name)
 TYPE_OF = {"$TC_TP2": "STRING"}
 
@@ -102,7 +103,17 @@ def _groups() -> dict[int, tuple[str, ...]]:
 GROUPS: dict[int, tuple[str, ...]] = _groups()
 
 
+#: machine and setting data vmach does not list: readable when the model gives them
+GENERIC = re.compile(r"^\$(M[NCA]|S[NCA])_[A-Z0-9_]+$")
+_ANY_INDEX = ((), ("any",), ("any", "any"), ("any", "any", "any"))
+
+
 def lookup(name: str) -> SysVar | None:
     """The system variable ``name`` (upper case, with ``$``), or None when vmach has no such
-    variable."""
-    return CATALOG.get(name)
+    variable. Machine and setting data the catalogue does not list (``$MC_…``, ``$SA_…``) are
+    known with no default (``default`` None): the model's ``[machine_data]`` must give them."""
+    var = CATALOG.get(name)
+    if var is None and GENERIC.match(name):
+        kind = "setting_data" if name[1] == "S" else "machine_data"
+        var = SysVar(name, kind, "REAL", _ANY_INDEX, None, kind == "setting_data")
+    return var

@@ -224,3 +224,14 @@ def test_the_clock_counts_feeds_rapids_and_spindle_revolutions(tmp_path):
     assert [m[-2].axes[a] for a in "XYZ"] == pytest.approx([10.0, 1.0, 20.0])
     assert m[-1].axes["X"] == pytest.approx(10.0 + 20.0 + math.pi * 10 / 2 / 10)
     assert m[-1].axes["Y"] == pytest.approx(1.0 + 0.5)
+
+
+def test_a_datum_vmach_does_not_list_is_read_from_the_model_or_is_unsupported(tmp_path):
+    """$MA_MAKERS_OFFSET is no datum vmach knows a default for: the model's [machine_data] gives
+    it (here per axis), else the run stops with unsupported there; check accepts both."""
+    text = "N10 R1=$MA_MAKERS_OFFSET[Z]\nN20 G0 X=R1\nM30\n"
+    given = ControlSpec(machine_data={"$MA_MAKERS_OFFSET": {"Z": 12.5}})
+    assert last(ok(tmp_path, text, given))["X"] == 12.5
+    f = error_of(run(tmp_path, text))
+    assert (f.kind, f.line, f.source.column) == ("unsupported", 1, 5)     # the assignment
+    assert kinds(check(tmp_path, text), "error") == []
