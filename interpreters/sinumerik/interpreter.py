@@ -108,7 +108,7 @@ class Interpreter:
         self.nck = Nck(control, self.machine, options, self.findings, lambda: len(self.stack) - 1,
                        self.passed)
         self.env.sys = self.nck
-        self.machine.settable_offsets = self.nck.settable_offsets
+        self.machine.settable_frame = self.nck.settable_frame
         if options.tool_radius is not None:
             self.machine.tool_radius_of = self.nck.tool_radius
         self.loaded: dict[str, Loaded] = {}

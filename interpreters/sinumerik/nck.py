@@ -32,6 +32,7 @@ from typing import Any
 
 from interpreters.sinumerik import sysframes
 from interpreters.sinumerik.expr import EvalError
+from interpreters.sinumerik.frames import Matrix
 from interpreters.sinumerik.nckclock import Clock
 from interpreters.sinumerik.sysframes import Frame
 from interpreters.sinumerik.sysvars import CATALOG, GROUPS, SysVar, lookup
@@ -285,7 +286,7 @@ class Nck:
             frame = self.ifr.with_component(idx[0], idx[1], _real(value, var.name)) if idx else value
             if not isinstance(frame, Frame):
                 raise EvalError("type_error", "$P_IFRAME takes a frame (CTRANS(...) ...)")
-            self.machine.frames.set_settable(self._activate(frame, "$P_IFRAME"))
+            self.machine.frames.set_settable(*self._activate(frame))
             self.machine.emit_frame(src)
             return
         if var.kind == "frame":                   # $P_UIFR
@@ -329,16 +330,14 @@ class Nck:
         m.refresh_plain()
 
     # -- what other parts of the interpreter ask ----------------------------------------------
-    def settable_offsets(self, code: str) -> dict[str, float]:
-        """Translations of the settable frame G500/G54... selects (for ``Frames.set_settable``)."""
-        return self._activate(self.uifr.get(settable_index(code), sysframes.NEUTRAL), code)
+    def settable_frame(self, code: str) -> tuple[dict[str, float], Matrix]:
+        """Translations and linear part of the settable frame G500/G54... selects (for
+        ``Frames.set_settable``)."""
+        return self._activate(self.uifr.get(settable_index(code), sysframes.NEUTRAL))
 
-    def _activate(self, frame: Frame, what: str) -> dict[str, float]:
-        if not frame.translation_only:
-            raise EvalError("unsupported", f"{what}: the settable frame has a rotation, scale or "
-                            "mirror; vmach simulates settable frames that translate only")
+    def _activate(self, frame: Frame) -> tuple[dict[str, float], Matrix]:
         self.ifr = frame
-        return frame.offsets()
+        return frame.offsets(), frame.linear(self.machine.geometry)
 
     def tool_radius(self, tool: str, d: int) -> float | None:
         """Tool radius for compensation: a written ``$TC_DP6`` first, else the library's."""

@@ -69,11 +69,6 @@ class Frame:
         """Translation per axis (coarse + fine), mm or degrees."""
         return {a: self.tr.get(a, 0.0) + self.fi.get(a, 0.0) for a in {*self.tr, *self.fi}}
 
-    @property
-    def translation_only(self) -> bool:
-        return (not any(self.rt.values()) and all(v == 1.0 for v in self.sc.values())
-                and not self.mi)
-
     def linear(self, geometry: tuple[str, str, str]) -> Matrix:
         """R · S · M for the geometry axes."""
         g = geometry

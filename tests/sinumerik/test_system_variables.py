@@ -69,10 +69,23 @@ def test_frame_chain_translates_in_the_rotated_system(tmp_path):
     assert math.isclose(x, 10.0, abs_tol=1e-12) and math.isclose(y, 5.0) and math.isclose(z, 90.0)
 
 
-def test_selecting_a_rotated_settable_frame_is_unsupported(tmp_path):
-    r = run(tmp_path, "N10 $P_UIFR[1]=CROT(Z,30)\nN20 G54\nM30\n")
-    f = error_of(r)
-    assert (f.kind, f.line) == ("unsupported", 2)
+def test_a_rotated_settable_frame_chains_before_the_programmable_one(tmp_path):
+    """G54 = CTRANS(X,10):CROT(Z,90): X5 in the work system is machine (10, 5); a TRANS X1 on
+    top runs along the turned X (machine Y); $P_EP reads work coordinates back."""
+    r = ok(tmp_path, "$P_UIFR[1]=CTRANS(X,10):CROT(Z,90)\nG54 G0 X5 Y0\nTRANS X1\nG0 X0 Y0\n"
+           "R1=$P_EP[X] R2=$P_EP[Y]\nTRANS\nG0 X=R1 Y=R2\nM30\n")
+    got = [(m.axes["X"], m.axes["Y"]) for m in moves(r)]
+    assert got == [pytest.approx((10.0, 5.0)), pytest.approx((10.0, 1.0)), pytest.approx((10.0, 0.0))]
+
+
+def test_a_mirrored_settable_frame_turns_arcs_as_mirror_does(tmp_path):
+    """A settable frame CMIRROR(X) and the programmable MIRROR X give the same arc."""
+    a = ok(tmp_path, "$P_UIFR[2]=CMIRROR(X)\nG55 G0 X0 Y0\nG2 X10 Y0 CR=5 F100\nM30\n")
+    b = ok(tmp_path, "MIRROR X0\nG0 X0 Y0\nG2 X10 Y0 CR=5 F100\nM30\n")
+    arc_a, arc_b = moves(a)[-1], moves(b)[-1]
+    assert (arc_a.axes["X"], arc_a.clockwise, arc_a.center) == (arc_b.axes["X"], arc_b.clockwise,
+                                                                 arc_b.center)
+    assert arc_a.axes["X"] == -10.0 and not arc_a.clockwise
 
 
 def test_model_zero_offsets_are_the_settable_frames(tmp_path):
@@ -235,3 +248,11 @@ def test_a_datum_vmach_does_not_list_is_read_from_the_model_or_is_unsupported(tm
     f = error_of(run(tmp_path, text))
     assert (f.kind, f.line, f.source.column) == ("unsupported", 1, 5)     # the assignment
     assert kinds(check(tmp_path, text), "error") == []
+
+
+def test_a_save_subprogram_restores_a_plain_settable_frame_after_a_rotated_one(tmp_path):
+    """PROC ... SAVE selects a rotated G55; back in the caller G54 (a plain offset) holds again."""
+    r = ok(tmp_path, "$P_UIFR[1]=CTRANS(X,100)\n$P_UIFR[2]=CROT(Z,90)\nG54 G0 X1 Y0\nSUB\nG0 X1 Y0\nM30\n",
+           SUB_DOT_SPF="PROC SUB SAVE\nG55 G0 X1 Y0\nRET\n")
+    got = [(m.axes["X"], m.axes["Y"]) for m in moves(r)]
+    assert got == [pytest.approx((101.0, 0.0)), pytest.approx((0.0, 1.0)), pytest.approx((101.0, 0.0))]
