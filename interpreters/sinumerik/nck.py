@@ -34,7 +34,7 @@ from interpreters.sinumerik import sysframes
 from interpreters.sinumerik.expr import EvalError
 from interpreters.sinumerik.frames import Matrix
 from interpreters.sinumerik.nckclock import Clock
-from interpreters.sinumerik.sysframes import Frame
+from interpreters.sinumerik.sysframes import SETTABLE, Frame, settable_code, settable_index
 from interpreters.sinumerik.sysvars import CATALOG, GROUPS, SysVar, lookup
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions
@@ -46,19 +46,7 @@ INCH = 25.4
 TOOL_TYPES = {"flat": 120, "face": 140, "ball": 110, "bull": 121, "chamfer": 155, "drill": 200}
 #: $P_GG for a group vmach does not keep: its first code, the control's usual reset value
 UNTRACKED_GROUP = 1
-SETTABLE = ("G500", "G54", "G55", "G56", "G57")
 LOOSE_AXIS = re.compile(r"^[ABCUVWXYZ]\d*$")
-
-
-def settable_code(n: int) -> str | None:
-    """G code of settable frame ``$P_UIFR[n]``."""
-    if 0 <= n < len(SETTABLE):
-        return SETTABLE[n]
-    return f"G5{n:02d}" if 5 <= n <= 99 else None
-
-
-def settable_index(code: str) -> int:
-    return SETTABLE.index(code) if code in SETTABLE else int(code[2:])
 
 
 class Nck:
@@ -414,7 +402,7 @@ def _tool_number(tool: Any) -> int:
 
 
 def _real(v: Any, name: str) -> float:
-    if isinstance(v, str | Frame):
+    if isinstance(v, str) or not hasattr(v, "__float__"):
         raise EvalError("type_error", f"{name} takes a number, not {v!r}")
     return float(v)
 

@@ -20,6 +20,8 @@ from interpreters.sinumerik.expr import EvalError
 from interpreters.sinumerik.frames import IDENTITY, Matrix, apply, diagonal, matmul, rpy
 
 COMPONENTS = ("TR", "FI", "RT", "SC", "MI")
+#: the settable frames' G codes by $P_UIFR index (then G505 .. G599 for 5 .. 99)
+SETTABLE = ("G500", "G54", "G55", "G56", "G57")
 FUNCTIONS = ("CTRANS", "CROT", "CSCALE", "CMIRROR", "CFINE", "CRPL")
 
 
@@ -173,3 +175,14 @@ def from_state(trans: Mapping[str, float], rot: Matrix, geometry: tuple[str, str
     them; a matrix with scale or mirror reads as its nearest rotation's angles."""
     rt = {n: v for n, v in zip(geometry, angles_of(rot), strict=True) if abs(v) > 1e-12}
     return Frame(tr=dict(trans), rt=rt)
+
+
+def settable_code(n: int) -> str | None:
+    """G code of settable frame ``$P_UIFR[n]``."""
+    if 0 <= n < len(SETTABLE):
+        return SETTABLE[n]
+    return f"G5{n:02d}" if 5 <= n <= 99 else None
+
+
+def settable_index(code: str) -> int:
+    return SETTABLE.index(code) if code in SETTABLE else int(code[2:])
