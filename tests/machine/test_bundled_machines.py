@@ -11,6 +11,7 @@ from machine.test_machine_fk import MODELS, rot
 
 from interpreters import sinumerik
 from vmach.canon import MOTIONS, RunOptions
+from vmach.machine import load_model
 from vmach.machine.loader import load_model_control
 
 NEW = ("mill3", "mill5ac", "lathe")
@@ -59,15 +60,34 @@ def test_mill5ac_fk_is_the_table_table_geometry_and_ik_returns_the_pose():
     assert np.abs(back.axis - pose.axis).max() < 1e-9
 
 
+def carr(md, *ks):
+    return [md[f"$TC_CARR{k}"][1] for k in ks]
+
+
 def test_mill5ac_swivel_record_is_derived_from_the_chain():
-    md = model("mill5ac").control.machine_data
-    v1 = [md[f"$TC_CARR{k}"][1] for k in (7, 8, 9)]
-    v2 = [md[f"$TC_CARR{k}"][1] for k in (10, 11, 12)]
-    assert v1 == [1.0, 0.0, 0.0] and v2 == [0.0, 0.0, 1.0]      # A about X first, then C
-    assert md["$TC_CARR23"][1] == "P"                          # both axes turn the part
+    """Swivel table (P), CYCLE800's record: rotary axis 1 A (C sits on it), vectors reversed
+    because the axes turn the part; l2 from the machine reference (the tip at zero) to the
+    pivot, l3 pivot to pivot, l4 closes the chain."""
+    md = load_model("mill5ac", {"rotation_centre": (10.0, -20.0, 30.0)}).control.machine_data
+    assert carr(md, 7, 8, 9) == [-1.0, 0.0, 0.0] and carr(md, 10, 11, 12) == [0.0, 0.0, -1.0]
+    assert md["$TC_CARR23"][1] == "P"
+    assert carr(md, 4, 5, 6) == [10.0, -20.0, 30.0]              # the rotation centre
+    assert carr(md, 15, 16, 17) == [0.0, 0.0, 0.0]               # the axes intersect
+    assert carr(md, 18, 19, 20) == [-10.0, 20.0, -30.0]
     assert (md["$TC_CARR30"][1], md["$TC_CARR32"][1]) == (-120.0, 120.0)
     assert (md["$TC_CARR35"][1], md["$TC_CARR36"][1]) == ("A", "C")
     assert md["$MC_TRAFO_TYPE_1"] == 24
+
+
+def test_a_swivel_head_record_closes_its_chain():
+    """Swivel head (T, hybrid5's B/C head): l3 tool reference → pivot of axis 2 (B), l2 → pivot
+    of axis 1 (C), l1 = −(l2 + l3); head vectors as the joints turn."""
+    md = model("hybrid5").control.machine_data
+    assert md["$TC_CARR23"][1] == "T" and (md["$TC_CARR35"][1], md["$TC_CARR36"][1]) == ("C", "B")
+    l1, l2, l3 = carr(md, 1, 2, 3), carr(md, 4, 5, 6), carr(md, 15, 16, 17)
+    assert [a + b + c for a, b, c in zip(l1, l2, l3, strict=True)] == [0.0, 0.0, 0.0]
+    assert l3[2] > 0                                            # the pivot is above the tip
+    assert carr(md, 7, 8, 9) == [0.0, 0.0, 1.0] and carr(md, 10, 11, 12) == [0.0, 1.0, 0.0]
 
 
 def test_lathe_is_x_radius_z_and_c():

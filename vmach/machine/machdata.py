@@ -18,16 +18,17 @@ rotary and modulo axes (``$MA_IS_ROT_AX``, ``$MA_ROT_IS_MODULO``, ``$MA_MODULO_R
 limits (``$MA_POS_LIMIT_PLUS/MINUS``), rates (``$MA_MAX_AX_VELO``, mm/min or deg/min),
 accelerations (``$MA_MAX_AX_ACCEL``: m/s² for linear axes, rev/s² for rotary ones), the metric
 basic system (models are in mm), the transverse axis (``$MC_DIAMETER_AX_DEF``), the master
-spindle, and swivel data record 1 (``$TC_CARR``) of a machine with two rotary axes: the rotary
-axes' directions (7..9, 10..12), the kinematic type (23: T head, P table, M mixed), their
-travel (30..33) and names (35, 36). The offset vectors (1..6, 15..20) are not derived: a model
-gives them in ``[machine_data]`` when a program needs them.
+spindle, and swivel data record 1 (``$TC_CARR``) of a machine with two rotary axes: offset
+vectors l1..l4 (1..6, 15..20), the rotary axes' vectors (7..9, 10..12), the kinematic type (23:
+T head, P table, M mixed), their travel (30..33) and names (35, 36); see :func:`swivel`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from typing import Any
+
+import numpy as np
 
 from vmach.canon import ControlSpec
 from vmach.machine.spec import Joint, ModelSpec
@@ -119,35 +120,77 @@ def derive(spec: ModelSpec, given: Mapping[str, Any]) -> dict[str, Any]:
     return {k: v for k, v in md.items() if v != {}}
 
 
-def _side(spec: ModelSpec, link: str) -> list[Joint]:
-    """Revolute joints between the base and ``link``, from the base outward."""
+def _path(spec: ModelSpec, link: str) -> list[Joint]:
+    """The joints from the base out to ``link``."""
     by_child = {j.child: j for j in spec.joints}
     out: list[Joint] = []
-    seen = set()
-    while link in by_child and link not in seen:
-        seen.add(link)
-        j = by_child[link]
-        if j.type == "revolute":
-            out.append(j)
-        link = j.parent
+    while link in by_child and by_child[link] not in out:
+        out.append(by_child[link])
+        link = by_child[link].parent
     return out[::-1]
 
 
+def _zero_pose(joints: list[Joint]) -> list[np.ndarray]:
+    """(4, 4) pose in the base of each joint's frame (after its origin), all axes at 0."""
+    pose, out = np.eye(4), []
+    for j in joints:
+        pose = pose @ j.origin.matrix
+        out.append(pose)
+    return out
+
+
 def swivel(spec: ModelSpec) -> dict[str, Any]:
-    """Swivel data record 1 of a machine with two rotary axes (see the module docstring)."""
-    table = _side(spec, spec.work.link)
-    head = _side(spec, spec.tool.link)
-    rotary = head + table
-    if len(rotary) != 2:
+    """Swivel data record 1 of a machine with two rotary axes, as CYCLE800 reads it (SINUMERIK
+    Operate commissioning, "Swiveling"): rotary axis 1 is the one axis 2 is built on (with mixed
+    kinematics the head's); axis vectors describe the tool's turn relative to the part, so an
+    axis that turns the workpiece has its vector reversed; offset vectors at all axes zero:
+    table (P) l2 machine reference → pivot 1, l3 pivot 1 → pivot 2, l4 = −(l2 + l3); head (T)
+    l3 tool reference → pivot 2, l2 pivot 2 → pivot 1, l1 = −(l2 + l3); mixed (M) l2 tool
+    reference → pivot 1 (head), l1 = −l2, l3 machine reference → pivot 2 (table), l4 = −l3. The
+    machine and tool reference are the tool tip with all axes at zero (vmach's X Y Z carry the
+    tip, the tool length being compensated)."""
+    tool_path = _path(spec, spec.tool.link)
+    work_path = _path(spec, spec.work.link)
+    tip = (_zero_pose(tool_path)[-1] if tool_path else np.eye(4)) @ spec.tool.origin.matrix
+    ref = tip[:3, 3]
+    found = []                                   # (joint, pivot, direction, on the work side)
+    for path, work in ((tool_path, False), (work_path, True)):
+        for j, pose in zip(path, _zero_pose(path), strict=True):
+            if j.type == "revolute":
+                found.append((j, pose[:3, 3], pose[:3, :3] @ np.asarray(j.axis, float), work))
+    if len(found) != 2:
         return {}
+    head = [f for f in found if not f[3]]
+    table = [f for f in found if f[3]]
     kind = "P" if not head else "T" if not table else "M"
-    md: dict[str, Any] = {"$TC_CARR23": {1: kind}}
-    for k, j in enumerate(rotary):
-        for i, c in enumerate(j.axis):
-            md[f"$TC_CARR{7 + 3 * k + i}"] = {1: float(c)}
+    first, second = (head + table) if kind == "M" else found if kind == "T" else table
+    p1, p2 = first[1], second[1]
+    zero = np.zeros(3)
+    if kind == "P":
+        l1, l2, l3 = zero, p1 - ref, p2 - p1
+        l4 = -(l2 + l3)
+    elif kind == "T":
+        l3, l2, l4 = p2 - ref, p1 - p2, zero
+        l1 = -(l2 + l3)
+    else:
+        l2, l3 = p1 - ref, p2 - ref
+        l1, l4 = -l2, -l3
+    md: dict[str, Any] = {"$TC_CARR23": {1: kind}, "$TC_CARR34": {1: spec.name}}
+    for base, vec in ((1, l1), (4, l2), (15, l3), (18, l4)):
+        for i in range(3):
+            md[f"$TC_CARR{base + i}"] = {1: _clean(vec[i])}
+    for k, (j, _pivot, direction, work) in enumerate((first, second)):
+        v = -direction if work else direction
+        for i in range(3):
+            md[f"$TC_CARR{7 + 3 * k + i}"] = {1: _clean(v[i])}
         if j.limits is not None:
             md[f"$TC_CARR{30 + k}"] = {1: float(j.limits[0])}
             md[f"$TC_CARR{32 + k}"] = {1: float(j.limits[1])}
         md[f"$TC_CARR{35 + k}"] = {1: j.variable or j.name}
-    md["$TC_CARR34"] = {1: spec.name}
     return md
+
+
+def _clean(x: float) -> float:
+    """A component without rounding noise (and without −0)."""
+    v = round(float(x), 9)
+    return v + 0.0
