@@ -198,11 +198,11 @@ def _finite(v: Any) -> bool:
 
 def control_for(program: str | Path, machine: str | None) -> tuple[ControlSpec, Path | None]:
     """The ControlSpec a program runs against: ``--machine``, else the setup file, else none."""
-    from vmach.machine.control import load_control
+    from vmach.machine.loader import load_model_control
 
     setup = read_setup(program)
     path = resolve_model(machine) if machine else setup.machine
-    control = load_control(path) if path else DEFAULT_CONTROL
+    control = load_model_control(path) if path else DEFAULT_CONTROL
     return with_offsets(control, setup), path
 
 

@@ -260,7 +260,8 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         dialect = interpreters.dialect_for(path, options.dialect, control.dialect)
         static = dialect.check(str(program), control)     # verify reports all that check does
         result = dialect.run(str(program), control, RunOptions(
-            max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None))
+            max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None,
+            tool_data=library.data if library is not None else None))
         report.result = result
         report.findings.extend(coverage.merged(static, result.findings))
         report.stopped_at = coverage.stop_place(result)
