@@ -54,7 +54,8 @@ class Level:
 
 
 def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
-    program = parse_program(decode_text(read_bytes(path, display)), display, control)
+    program = parse_program(decode_text(read_bytes(path, display)), display, control,
+                            program_names(path.resolve().parent))
     findings = list(program.findings) + analyse(program)
     return Loaded(program, findings)
 
@@ -76,6 +77,15 @@ def _entry(directory: Path, name: str) -> Path | None:
                 if p.is_file():
                     return p
     return None
+
+
+def program_names(directory: Path) -> frozenset[str]:
+    """``NAME`` of every ``NAME.SPF``/``NAME.MPF`` in ``directory`` (upper case)."""
+    try:
+        entries = os.listdir(directory)
+    except OSError:
+        return frozenset()
+    return frozenset(e[:-4].upper() for e in entries if e[-4:].upper() in PROGRAM_SUFFIXES)
 
 
 def find_subprogram(directory: Path, name: str) -> Path | None:

@@ -13,7 +13,7 @@ import re
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
-from interpreters.sinumerik.expr import MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
+from interpreters.sinumerik.expr import FUNCTIONS, MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
 from interpreters.sinumerik.language import (
     ACCEPTED_WORDS,
     CODES,
@@ -50,12 +50,17 @@ _SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "
 class Grammar:
     """What a word may be on this machine: axes, cycles, machine G codes."""
 
-    def __init__(self, control: ControlSpec):
+    def __init__(self, control: ControlSpec, programs: frozenset[str] = frozenset()):
         self.control = control
         self.axes = {a.name for a in control.axes} | set(control.geometry)
         self.strict = control.strict_axes
         self.cycles = control.cycles
         self.gcodes = control.gcodes
+        #: names read whole in words without separators (lexer.split_words): the language's
+        #: words, the machine's axes, cycles and G codes, the programs beside this one
+        self.names = frozenset().union(CODES, STATEMENTS, ACCEPTED_WORDS, UNSUPPORTED_WORDS, FUNCTIONS,
+                                       _BUILTINS, DRILLING, PATTERNS, self.axes, self.cycles,
+                                       self.gcodes, programs)
 
     def is_axis(self, name: str) -> bool:
         if name in self.axes:
@@ -124,8 +129,12 @@ class BlockParser:
         return node
 
     # -- block -----------------------------------------------------------------------------
+    def is_name(self, ident: str) -> bool:
+        """Whether the control knows ``ident`` as one name (never split into address words)."""
+        return ident in self.g.names or ident in self.variables
+
     def parse(self, block: b.Block, code: str) -> None:
-        self.toks = tokenize(code, self.src)
+        self.toks = tokenize(code, self.src, self.is_name)
         self.pos = 0
         if self.is_op("/"):
             block.skip = True
@@ -659,10 +668,14 @@ def _machine_code(name: str) -> Code:
     return Code(name, -1, "machine", False, "codes")
 
 
-def parse_program(text: str, path: str, control: ControlSpec) -> b.Program:
-    """Parse a whole program; never raises for bad text (findings collect the problems)."""
+def parse_program(
+    text: str, path: str, control: ControlSpec, programs: frozenset[str] = frozenset()
+) -> b.Program:
+    """Parse a whole program; never raises for bad text (findings collect the problems).
+    ``programs``: the names of the programs beside it (``NAME`` of ``NAME.SPF``), which words
+    without separators do not split."""
     lines = text.splitlines()
-    grammar = Grammar(control)
+    grammar = Grammar(control, programs)
     variables: dict = {}
     blocks: list[b.Block] = []
     findings: list[Finding] = []
