@@ -172,6 +172,9 @@ class Block:
     partner: int = -1
     partner2: int = -1  # ELSE of an IF
     error: Finding | None = None  # why a "bad" block did not parse
+    #: the control structure a "bad" block opens or closes ("if", "endif", "while" ...), so that
+    #: its partners still pair; "" for none
+    shape: str = ""
 
 
 @dataclass(slots=True)

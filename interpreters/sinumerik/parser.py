@@ -37,6 +37,9 @@ _LABEL = re.compile(r"^[A-Z_][A-Z_][A-Z0-9_]{0,30}$")
 _BLOCKNO = re.compile(r"^N(\d+)$")
 _SPINDLE_ADDR = re.compile(r"^([SM])(\d+)$")
 _JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
+#: statements that open or close a control structure (blocks.Block.shape)
+_SHAPES = frozenset({"IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "REPEAT", "UNTIL",
+                     "LOOP", "ENDLOOP"})
 _MODES = ("AC", "IC", "ACP", "ACN", "DC")
 _INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "turn",
            "RND": "corner", "RNDM": "corner", "CHF": "corner", "CHR": "corner", "FRC": "corner",
@@ -165,6 +168,10 @@ class BlockParser:
 
     def statement(self, block: b.Block, t: Token) -> None:
         name = t.text
+        if name in _SHAPES:  # kept when the rest of the block does not parse
+            jumps = name == "IF" and any(x.kind == IDENT and x.text in _JUMPS for x in self.toks)
+            section = name == "REPEAT" and self.peek().kind != END      # REPEAT label: no structure
+            block.shape = "" if jumps or section else name.lower()
         self.pos += 1
         if name == "IF":
             block.cond = self.expr()

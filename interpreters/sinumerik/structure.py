@@ -122,11 +122,11 @@ def _pair(program: Program) -> list[Finding]:
     out: list[Finding] = []
     stack: list[Block] = []
     for blk in program.blocks:
-        k = blk.kind
+        k = blk.kind if blk.kind != "bad" else blk.shape  # a bad IF still opens its structure
         if k in _OPENERS:
             stack.append(blk)
         elif k == "else":
-            if not stack or stack[-1].kind != "if":
+            if not stack or _shape(stack[-1]) != "if":
                 out.append(error("unbalanced_block", "ELSE without IF", src(program, blk)))
             elif stack[-1].partner2 >= 0:
                 out.append(error("unbalanced_block", "second ELSE for the same IF", src(program, blk)))
@@ -135,8 +135,8 @@ def _pair(program: Program) -> list[Finding]:
                 blk.partner = stack[-1].index
         elif k in _CLOSERS:
             want = _CLOSERS[k]
-            if not stack or stack[-1].kind != want:
-                open_txt = f" (open: {stack[-1].kind.upper()} at line {stack[-1].line})" if stack else ""
+            if not stack or _shape(stack[-1]) != want:
+                open_txt = f" (open: {_shape(stack[-1]).upper()} at line {stack[-1].line})" if stack else ""
                 out.append(
                     error(
                         "unbalanced_block",
@@ -151,14 +151,20 @@ def _pair(program: Program) -> list[Finding]:
             if opener.partner2 >= 0:
                 program.blocks[opener.partner2].partner2 = blk.index  # ELSE -> ENDIF
     for blk in stack:
+        k = _shape(blk)
         out.append(
             error(
                 "unbalanced_block",
-                f"{blk.kind.upper()} at line {blk.line} is never closed by {_OPENERS[blk.kind].upper()}",
+                f"{k.upper()} at line {blk.line} is never closed by {_OPENERS[k].upper()}",
                 src(program, blk),
             )
         )
     return out
+
+
+def _shape(blk: Block) -> str:
+    """The structure statement a block is, also when the rest of it did not parse."""
+    return blk.kind if blk.kind != "bad" else blk.shape
 
 
 def _defs_first(program: Program) -> list[Finding]:

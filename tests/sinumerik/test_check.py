@@ -140,3 +140,17 @@ def test_a_subprogram_linked_from_outside_is_named_as_such(tmp_path):
     assert kinds(check(job, "G0 X1\nEVIL\nM30\n")) == [("subprogram_outside", 2)]
     (job / "EVIL.SPF").unlink()
     assert kinds(check(job, "G0 X1\nEVIL\nM30\n")) == [("unknown_cycle", 2)]
+
+
+@pytest.mark.parametrize(
+    "head",
+    ["IF $P_NOSUCH==1", "IF NOSUCH>0", "WHILE NOSUCH<3", "IF (1+", "FOR R1=NOSUCH TO 3"],
+)
+def test_a_structure_whose_head_does_not_parse_still_pairs(tmp_path, head):
+    # one finding at the head itself; its ELSE/ENDIF, ENDWHILE, ENDFOR are not unbalanced
+    close = {"IF": "ENDIF", "WHILE": "ENDWHILE", "FOR": "ENDFOR"}[head.split()[0]]
+    middle = "ELSE\nG0 X2\n" if close == "ENDIF" else ""
+    text = f"G0 X0\n{head}\nG0 X1\n{middle}{close}\nIF R1>0\nG0 X3\nENDIF\nM30\n"
+    found = check(tmp_path, text)
+    assert [(f.kind, f.line) for f in found if f.severity == "error"] == [(found[0].kind, 2)]
+    assert "unbalanced_block" not in [f.kind for f in found]
