@@ -15,6 +15,7 @@ Word values were evaluated left to right before this (assignments take effect in
 
 from __future__ import annotations
 
+import copy
 import math
 
 from interpreters.sinumerik import circles, polar, tracyl
@@ -142,6 +143,14 @@ class Machine:
         self.last_move: tuple | None = None
         #: where motion commands go: ``out``, or the place of a block held for a chamfer
         self.sink: list = out
+        #: SD42440 $SC_FRAME_OFFSET_INCR_PROG (default 1): an incremental move after a frame
+        #: change also traverses the change (counts from the point as programmed under the
+        #: frame it was reached in); 0: only the programmed distance
+        data = getattr(control, "machine_data", None) or {}
+        self.incr_offset = bool(data.get("$SC_FRAME_OFFSET_INCR_PROG", 1))
+        #: axis -> the frames its position was reached under, for each axis not programmed
+        #: since the frame changed (only with ``incr_offset``)
+        self.stale: dict[str, Frames] = {}
 
     @property
     def plane_axes(self) -> tuple[str, str, str]:
@@ -171,8 +180,17 @@ class Machine:
             )
         } | {"frames": (dict(self.frames.settable), dict(self.frames.trans), self.frames.rot)}
 
+    def frame_changes(self) -> None:
+        """Call before the frame changes: the axes keep the frame their position was reached
+        under, for their next incremental move (SD42440)."""
+        if self.incr_offset:
+            before = copy.copy(self.frames)
+            for n in self.names:
+                self.stale.setdefault(n, before)
+
     def restore(self, state: dict, src: SourceRef) -> None:
         frames = state.pop("frames")
+        self.frame_changes()
         if PATH_MODES[state["path_mode"]] != PATH_MODES[self.path_mode]:
             self.out.append(canon.PathMode(src, mode=PATH_MODES[state["path_mode"]]))
         for k, v in state.items():
@@ -236,6 +254,7 @@ class Machine:
             elif grp == 8:
                 self.offset_code = name
                 offsets = {} if name == "G500" else dict(self.control.zero_offsets.get(name, {}))
+                self.frame_changes()
                 self.frames.set_settable(offsets)
                 self.emit_frame(src)
             elif grp == 9:
@@ -452,6 +471,7 @@ class Machine:
         if fc.name in polar.POLES:
             polar.set_pole(self, fc.name, vals, src.at(fc.col))
             return
+        self.frame_changes()
         if fc.name in ("SCALE", "ASCALE", "MIRROR", "AMIRROR"):
             g = self.geometry
             for k in vals:
@@ -533,6 +553,9 @@ class Machine:
             new = self._plain_targets(v.axes)
         if new is None:
             new = self._targets(v, src, suppress)
+        if self.stale:
+            for word, _ in v.axes:
+                self.stale.pop(word.name, None)
         motion = self.motion
         centre = None
         if motion == "G1":
@@ -586,6 +609,9 @@ class Machine:
         new = self._plain_targets(words)
         if new is None:
             return False
+        if self.stale:
+            for word, _ in words:
+                self.stale.pop(word.name, None)
         if self.motion == "G1":
             if self.feed <= 0:
                 raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
@@ -613,6 +639,7 @@ class Machine:
         off = self.frames.off
         specs = self.specs
         absolute = self.absolute
+        stale = self.stale
         for word, value in words:
             cls = value.__class__
             if cls is not float and cls is not int:
@@ -622,6 +649,8 @@ class Machine:
             if spec is None:
                 return None
             mode = word.mode
+            if stale and name in stale and (mode == "IC" or (mode is None and not absolute)):
+                return None  # the frame changed since this axis moved: the general path
             if spec.modulo is None:
                 if mode is None:
                     new[name] = value + off.get(name, 0.0) if absolute else pos[name] + value
@@ -676,6 +705,8 @@ class Machine:
                 )
             elif mode == "IC" or (mode is None and not self.absolute):
                 new[name] = pos[name] + value
+                if name in self.stale and not suppress:   # SD42440: the offset change too
+                    new[name] += frames.offset(name) - self.stale[name].offset(name)
             else:
                 off = 0.0 if suppress else frames.offset(name)
                 if spec.modulo:
@@ -694,6 +725,8 @@ class Machine:
                 value *= scale
                 if self.diameter and word.name == transverse and not (inc and self.diam90):
                     value /= 2.0
+                if inc and not suppress and word.name in self.stale:  # SD42440: from the point as
+                    p[i] = self.stale[word.name].to_program(cur)[i]   # programmed, offset traversed
                 p[i] = p[i] + value if inc else value
             m = p if suppress else frames.to_machine(tuple(p))
             for i, n in enumerate(g):

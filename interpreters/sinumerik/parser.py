@@ -278,6 +278,9 @@ class BlockParser:
         if tgt.kind == STR:
             self.pos += 1
             return b.Jump(t.text, tgt.value.upper(), None, tgt.col)
+        if tgt.kind == NUM and isinstance(tgt.value, int):  # GOTOF 90: the block N90 (or :90)
+            self.pos += 1
+            return b.Jump(t.text, f"N{tgt.value}", tgt.value, tgt.col)
         self.fail("syntax", f"{t.text} needs a label or block number")
         raise AssertionError  # unreachable
 

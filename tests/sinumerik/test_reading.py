@@ -4,11 +4,13 @@ notation"; Job planning, "Program jumps")."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
 import pytest
 from catalog import TURNMILL
 from nc import check, error_of, moves, ok, run
 
-from vmach.canon import Spindle, ToolChange
+from vmach.canon import DEFAULT_CONTROL, ControlSpec, Spindle, ToolChange
 from vmach.machine.control import load_control
 
 TURN = load_control(TURNMILL)
@@ -78,3 +80,56 @@ def test_glued_words_report_their_own_column(tmp_path):
     # G0G1: two motion codes in one block, the second at column 3
     f = error_of(run(tmp_path, "G0G1X5\nM30\n"))
     assert (f.kind, f.line, f.source.column) == ("modal_conflict", 1, 3)
+
+
+@pytest.mark.parametrize("how", ["GOTOF", "GOTO", "GOTOC"])
+def test_a_jump_to_a_bare_number_lands_on_that_block_number(tmp_path, how):
+    # the jump destination is a label, or a main or subblock number written with or without N
+    r = ok(tmp_path, f"N10 G0 X1\nN20 {how} 40\nN30 G0 X99\nN40 G0 X2\n:50 G0 X3\nM30\n")
+    assert [m.axes["X"] for m in moves(r)] == [1.0, 2.0, 3.0]
+    r = ok(tmp_path, "N10 G0 X1\nN20 GOTOF 50\nN30 G0 X99\n:50 G0 X3\nM30\n")
+    assert [m.axes["X"] for m in moves(r)] == [1.0, 3.0]
+
+
+def test_a_backward_jump_to_a_bare_number(tmp_path):
+    r = ok(tmp_path, "R1=0\nN10 R1=R1+1 G0 X=R1\nIF R1<3 GOTOB 10\nM30\n")
+    assert [m.axes["X"] for m in moves(r)] == [1.0, 2.0, 3.0]
+    assert [(f.kind, f.line) for f in check(tmp_path, "GOTOF 99\nN10 M30\n")] == [("undefined_label", 1)]
+
+
+@dataclass(frozen=True)
+class _WithData(ControlSpec):
+    """A control with machine/setting data (the machine model's [machine_data])."""
+
+    machine_data: dict = field(default_factory=dict)
+
+
+@pytest.mark.parametrize(
+    "text, xs",
+    [
+        # TRANS after the position was reached: the next increment traverses the offset too
+        ("G0 X1\nTRANS X100\nX=IC(1)\nX=IC(2)\nM30\n", [1.0, 102.0, 104.0]),
+        ("G0 X1\nTRANS X100\nG91 X1\nX2\nM30\n", [1.0, 102.0, 104.0]),
+        # a settable offset change the same way; an absolute move is not affected
+        ("G0 X1\nG54\nG91 X1\nG90 X1\nM30\n", [1.0, 12.0, 11.0]),
+        # an axis not moved since the change keeps the frame its position was reached under
+        ("G0 X1 Y0\nTRANS X100\nG0 Y5\nX=IC(1)\nM30\n", [1.0, 1.0, 102.0]),
+    ],
+)
+def test_incremental_move_after_a_frame_change_traverses_the_offset(tmp_path, text, xs):
+    # SD42440 FRAME_OFFSET_INCR_PROG = 1, the control's default
+    control = ControlSpec(axes=DEFAULT_CONTROL.axes, zero_offsets={"G54": {"X": 10.0}})
+    assert [m.axes["X"] for m in moves(ok(tmp_path, text, control))] == xs
+
+
+def test_incremental_move_after_rotation_counts_from_the_programmed_point(tmp_path):
+    # (10, 0) as programmed, plus (5, 0), in the rotated system: machine (0, 15)
+    r = ok(tmp_path, "G0 X10 Y0\nROT RPL=90\nG91 X5 Y0\nM30\n")
+    end = moves(r)[-1].axes
+    assert (end["X"], end["Y"]) == (pytest.approx(0.0, abs=1e-12), pytest.approx(15.0))
+
+
+def test_without_frame_offset_incr_prog_only_the_distance_is_traversed(tmp_path):
+    control = _WithData(axes=DEFAULT_CONTROL.axes, machine_data={"$SC_FRAME_OFFSET_INCR_PROG": 0})
+    r = ok(tmp_path, "G0 X1\nTRANS X100\nX=IC(1)\nX=IC(2)\nM30\n", control)
+    assert [m.axes["X"] for m in moves(r)] == [1.0, 2.0, 4.0]
