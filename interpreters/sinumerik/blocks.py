@@ -107,7 +107,24 @@ class Keyword:
     name: str
 
 
-Item = Assign | Word | GCode | FrameCmd | Call | Builtin | Keyword
+@dataclass(frozen=True, slots=True)
+class Command:
+    """A predefined command of ``commands.toml``: ``STOPRE``, ``WAITM(1,1,2)``, ``ADIS=0.5``,
+    ``FA[X]=1000``, ``POS[C]=ACP(90)``, ``SETAL(61000)``, ``CYCLE832(...)``.
+
+    kind : its kind in the table; args : its values (None for an empty place); axis : the
+    axis of ``NAME[axis]=``; mode : AC/IC/ACP/ACN/DC of a positioning value.
+    """
+
+    col: int
+    name: str
+    kind: str
+    args: tuple[Node | None, ...] = ()
+    axis: str | None = None
+    mode: str | None = None
+
+
+Item = Assign | Word | GCode | FrameCmd | Call | Builtin | Keyword | Command
 
 
 @dataclass(frozen=True, slots=True)

@@ -11,6 +11,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik import commands
 from interpreters.sinumerik.execute import Values
 from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num
 from vmach import canon
@@ -214,9 +215,12 @@ def _nc(it: Interpreter, program: b.Program, blk: b.Block, src: SourceRef) -> Ca
 
         return assign_block
 
-    steps = [_step(it, item) for item in items]
+    positions: list = []    # the block's POS/POSA moves (commands.run_positions)
+    steps = [(commands.step(it, x, src, positions), x.col) if isinstance(x, b.Command) else
+             (commands.code_step(it, x.code, x.col, src), x.col)
+             if isinstance(x, b.GCode) and x.code.status == "accepted" else _step(it, x) for x in items]
     machine = it.machine
-    general = _general_nc(it, blk, src, steps, items, cond, target, nxt)
+    general = _general_nc(it, blk, src, steps, items, cond, target, nxt, positions)
     simple = all(
         (isinstance(x, b.Word) and x.kind in ("axis", "feed"))
         or (isinstance(x, b.GCode) and x.code.name in ("G0", "G1"))
@@ -258,7 +262,7 @@ def _nc(it: Interpreter, program: b.Program, blk: b.Block, src: SourceRef) -> Ca
     return straight_block
 
 
-def _general_nc(it, blk, src, steps, items, cond, target, nxt):
+def _general_nc(it, blk, src, steps, items, cond, target, nxt, positions):
     machine = it.machine
     out = it.out
 
@@ -289,6 +293,8 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt):
             except EvalError as exc:
                 raise ProgramError(exc.kind, exc.message, src.at(col)) from None
         end = machine.apply(v, src) or v.end
+        if positions:
+            commands.run_positions(it, positions, src)
         call = v.call
         if call is not None:
             if end is not None:

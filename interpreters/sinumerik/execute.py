@@ -15,10 +15,9 @@ Word values were evaluated left to right before this (assignments take effect in
 
 from __future__ import annotations
 
-import copy
 import math
 
-from interpreters.sinumerik import circles, polar, tracyl
+from interpreters.sinumerik import circles, increments, polar, tracyl
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
@@ -143,13 +142,7 @@ class Machine:
         self.last_move: tuple | None = None
         #: where motion commands go: ``out``, or the place of a block held for a chamfer
         self.sink: list = out
-        #: SD42440 $SC_FRAME_OFFSET_INCR_PROG (default 1): an incremental move after a frame
-        #: change also traverses the change (counts from the point as programmed under the
-        #: frame it was reached in); 0: only the programmed distance
-        data = getattr(control, "machine_data", None) or {}
-        self.incr_offset = bool(data.get("$SC_FRAME_OFFSET_INCR_PROG", 1))
-        #: axis -> the frames its position was reached under, for each axis not programmed
-        #: since the frame changed (only with ``incr_offset``)
+        self.incr_offset = increments.traverses_offset(control)   # SD42440 (increments.py)
         self.stale: dict[str, Frames] = {}
 
     @property
@@ -180,17 +173,9 @@ class Machine:
             )
         } | {"frames": (dict(self.frames.settable), dict(self.frames.trans), self.frames.rot)}
 
-    def frame_changes(self) -> None:
-        """Call before the frame changes: the axes keep the frame their position was reached
-        under, for their next incremental move (SD42440)."""
-        if self.incr_offset:
-            before = copy.copy(self.frames)
-            for n in self.names:
-                self.stale.setdefault(n, before)
-
     def restore(self, state: dict, src: SourceRef) -> None:
         frames = state.pop("frames")
-        self.frame_changes()
+        increments.frame_changes(self)
         if PATH_MODES[state["path_mode"]] != PATH_MODES[self.path_mode]:
             self.out.append(canon.PathMode(src, mode=PATH_MODES[state["path_mode"]]))
         for k, v in state.items():
@@ -254,7 +239,7 @@ class Machine:
             elif grp == 8:
                 self.offset_code = name
                 offsets = {} if name == "G500" else dict(self.control.zero_offsets.get(name, {}))
-                self.frame_changes()
+                increments.frame_changes(self)
                 self.frames.set_settable(offsets)
                 self.emit_frame(src)
             elif grp == 9:
@@ -471,7 +456,7 @@ class Machine:
         if fc.name in polar.POLES:
             polar.set_pole(self, fc.name, vals, src.at(fc.col))
             return
-        self.frame_changes()
+        increments.frame_changes(self)
         if fc.name in ("SCALE", "ASCALE", "MIRROR", "AMIRROR"):
             g = self.geometry
             for k in vals:
@@ -553,9 +538,8 @@ class Machine:
             new = self._plain_targets(v.axes)
         if new is None:
             new = self._targets(v, src, suppress)
-        if self.stale:
-            for word, _ in v.axes:
-                self.stale.pop(word.name, None)
+        for word, _ in v.axes if self.stale else ():
+            self.stale.pop(word.name, None)
         motion = self.motion
         centre = None
         if motion == "G1":
@@ -609,9 +593,8 @@ class Machine:
         new = self._plain_targets(words)
         if new is None:
             return False
-        if self.stale:
-            for word, _ in words:
-                self.stale.pop(word.name, None)
+        for word, _ in words if self.stale else ():
+            self.stale.pop(word.name, None)
         if self.motion == "G1":
             if self.feed <= 0:
                 raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)

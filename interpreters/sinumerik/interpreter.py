@@ -16,6 +16,7 @@ from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik import tracyl
+from interpreters.sinumerik.commands import Recorder
 from interpreters.sinumerik.compile import CALL, SECTION, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
@@ -116,6 +117,7 @@ class Interpreter:
         self.stack: list[Level] = []
         self.pending: tuple | None = None
         self.blocks = 0
+        self.recorder = Recorder()      # commands without effect on geometry (no_effect infos)
 
     # -- loading ---------------------------------------------------------------------------
     def load(self, path: Path, display: str) -> Loaded:
@@ -141,7 +143,8 @@ class Interpreter:
             self.findings.append(exc.finding)
             completed = False
         commands = tracyl.apply(flatten(self.out)) if self.machine.placeholders else self.out
-        return RunResult(commands, self.machine.notes + self.findings, completed, self.blocks)
+        notes = self.machine.notes + self.recorder.findings()
+        return RunResult(commands, notes + self.findings, completed, self.blocks)
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:

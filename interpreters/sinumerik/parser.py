@@ -11,12 +11,14 @@ import math
 import re
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik import commands
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import FUNCTIONS, MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
 from interpreters.sinumerik.language import (
     ACCEPTED_WORDS,
     CODES,
+    COMMANDS,
     PROC_ATTRIBUTES,
     STATEMENTS,
     TYPES,
@@ -36,6 +38,7 @@ _LOOSE_AXIS = re.compile(r"^[ABCUVWXYZ]\d*$")
 _LABEL = re.compile(r"^[A-Z_][A-Z_][A-Z0-9_]{0,30}$")
 _BLOCKNO = re.compile(r"^N(\d+)$")
 _SPINDLE_ADDR = re.compile(r"^([SM])(\d+)$")
+_H_ADDR = re.compile(r"^H(\d+)$")
 _JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
 #: statements that open or close a control structure (blocks.Block.shape)
 _SHAPES = frozenset({"IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "REPEAT", "UNTIL",
@@ -59,9 +62,10 @@ class Grammar:
         self.strict = control.strict_axes
         self.cycles = control.cycles
         self.gcodes = control.gcodes
+        self.programs = programs
         #: names read whole in words without separators (lexer.split_words): the language's
         #: words, the machine's axes, cycles and G codes, the programs beside this one
-        self.names = frozenset().union(CODES, STATEMENTS, ACCEPTED_WORDS, UNSUPPORTED_WORDS, FUNCTIONS,
+        self.names = frozenset().union(CODES, STATEMENTS, COMMANDS, UNSUPPORTED_WORDS, FUNCTIONS,
                                        _BUILTINS, DRILLING, PATTERNS, self.axes, self.cycles,
                                        self.gcodes, programs)
 
@@ -435,7 +439,11 @@ class BlockParser:
                 self.expect_end("the jump")
                 break
             self.pos += 1
-            if self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R")):
+            if commands.is_command_start(self, name):
+                items.append(commands.read(self, t))
+            elif name in ("SPOS", "SPOSA") and self.is_op("["):     # SPOS[n]=...: spindle n
+                items.append(self.spindle_position(t))
+            elif self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R")):
                 items.append(self.assignment(t))
             elif self.is_op("("):
                 items.append(self.call_with_args(t))
@@ -481,12 +489,27 @@ class BlockParser:
         if m:
             kind = "speed" if m.group(1) == "S" else "m"
             return b.Word(t.col, name, kind, self.expr(), int(m.group(2)))
-        if name == "SPOS" or (name.startswith("SPOS") and name[4:].isdigit()):
-            return b.Word(t.col, name, "spos", self.expr())
+        if name in ("SPOS", "SPOSA") or (name.startswith("SPOS") and name[4:].isdigit()):
+            mode, node = self.moded_value()
+            return b.Word(t.col, name, "spos", node, None, mode)
+        if (m := _H_ADDR.match(name)) is not None:   # H7=1: auxiliary function with extension
+            return b.Word(t.col, name, "aux", self.expr(), int(m.group(1)))
         if name in CODES or name in STATEMENTS:
             self.fail("syntax", f"{name} takes no value", t.col)
         self.fail("unknown_word", self.unknown_word_message(name), t.col)
         raise AssertionError
+
+    def spindle_position(self, t: Token) -> b.Word:
+        """``SPOS[n]=value`` / ``SPOSA[n]=value`` (the ``[`` is next)."""
+        self.pos += 1
+        n = self.tok
+        if n.kind != NUM or not isinstance(n.value, int):
+            self.fail("syntax", f"{t.text}[n] needs a spindle number")
+        self.pos += 1
+        self.expect_op("]")
+        self.expect_op("=")
+        mode, node = self.moded_value()
+        return b.Word(t.col, f"{t.text}{n.value}", "spos", node, n.value, mode)
 
     def moded_value(self) -> tuple[str | None, Node]:
         t = self.tok
@@ -565,8 +588,8 @@ class BlockParser:
             if code.group == 3:
                 return self.frame(t)
             return b.GCode(t.col, code)
-        if name in ACCEPTED_WORDS:
-            return b.Keyword(t.col, name)
+        if name == "SETMS":                             # SETMS alone: the configured master
+            return b.Builtin(t.col, name)
         if name == "MCALL":
             return self.modal_call(t)
         if name in UNSUPPORTED_WORDS:
@@ -668,7 +691,7 @@ class BlockParser:
         return b.FrameCmd(t.col, t.text, tuple(words), rpl)
 
     def unknown_word_message(self, name: str, full: str | None = None) -> str:
-        pool = list(CODES) + list(self.g.cycles) + sorted(self.g.axes) + list(ACCEPTED_WORDS)
+        pool = list(CODES) + list(self.g.cycles) + sorted(self.g.axes) + list(COMMANDS)
         close = difflib.get_close_matches(name, pool, n=1, cutoff=0.8)
         hint = f"; did you mean {close[0]}?" if close else ""
         return f"unknown word {full or name!r}{hint}"
@@ -729,7 +752,7 @@ def _explain(exc: ProgramError, parser: BlockParser, src: SourceRef, code: str) 
         known = (
             first in CODES
             or first in STATEMENTS
-            or first in ACCEPTED_WORDS
+            or first in COMMANDS
             or first in parser.g.cycles
             or first in parser.variables
             or parser.g.is_axis(first)

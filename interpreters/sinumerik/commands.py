@@ -1,0 +1,218 @@
+"""Predefined commands that are not G-group codes (``commands.toml``): how each kind is read and
+what it does in a run. One reader and one handler per kind:
+
+================  ==============================  ============================================
+kind              written                         run
+================  ==============================  ============================================
+keyword           ``STOPRE``                      no effect on geometry (``no_effect`` info)
+procedure         ``WAITM(1,1,2)``, ``GET(Z)``    no effect on geometry (``no_effect`` info)
+value             ``ADIS=0.5``                    evaluated; no effect on geometry
+axis_value        ``FA[X]=1000``                  evaluated; no effect on geometry
+position          ``POS[C]=ACP(90)``              the axis moves (a traverse after the block's
+                                                  path motion)
+alarm             ``SETAL(61000)``                error ``program_alarm`` with the number; stops
+setting_cycle     ``CYCLE832(0.01,_FINISH,1)``    no effect on geometry (``no_effect`` info)
+cycle             ``CYCLE800(...)``               ``unsupported`` naming it (unless a program
+                                                  of that name is beside the program)
+================  ==============================  ============================================
+
+Accepted G-group codes (``language.toml``: BRISK, COMPCAD, FNORM …) are recorded the same way
+as the keywords. The ``no_effect`` info is given once per command and run, with the count.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik.expr import EvalError, Node, compile_expr
+from interpreters.sinumerik.language import CODES, COMMANDS
+from interpreters.sinumerik.lexer import IDENT, OP
+from vmach.errors import ProgramError
+from vmach.findings import Finding, info
+from vmach.source import SourceRef
+
+if TYPE_CHECKING:
+    from interpreters.sinumerik.interpreter import Interpreter
+    from interpreters.sinumerik.parser import BlockParser
+
+
+# -- reading -------------------------------------------------------------------------------
+def read(p: BlockParser, t) -> b.Item:
+    """The command ``t`` (its name token, already consumed) with what follows it."""
+    c = COMMANDS[t.text]
+    return _READERS[c.kind](p, t)
+
+
+def _keyword(p: BlockParser, t) -> b.Item:
+    if p.is_op("(") or p.is_op("="):
+        p.fail("syntax", f"{t.text} takes no arguments or value")
+    return b.Command(t.col, t.text, "keyword")
+
+
+def _procedure(p: BlockParser, t) -> b.Item:
+    return b.Command(t.col, t.text, COMMANDS[t.text].kind, _arguments(p) if p.is_op("(") else ())
+
+
+def _value(p: BlockParser, t) -> b.Item:
+    p.expect_op("=")
+    return b.Command(t.col, t.text, "value", (p.expr(),))
+
+
+def _axis_value(p: BlockParser, t) -> b.Item:
+    p.expect_op("[")
+    at = p.tok
+    if at.kind != IDENT or not p.g.is_axis(at.text):
+        p.fail("unknown_axis", f"{t.text}[...] needs an axis of this machine, found {p.describe(at)}")
+    p.pos += 1
+    p.expect_op("]")
+    p.expect_op("=")
+    kind = COMMANDS[t.text].kind
+    if kind == "position":
+        mode, node = p.moded_value()
+        return b.Command(t.col, t.text, kind, (node,), at.text, mode)
+    return b.Command(t.col, t.text, kind, (p.expr(),), at.text)
+
+
+def _alarm(p: BlockParser, t) -> b.Item:
+    p.expect_op("(")
+    node = p.expr()
+    p.expect_op(")")
+    return b.Command(t.col, t.text, "alarm", (node,))
+
+
+def _cycle(p: BlockParser, t) -> b.Item:
+    p.fail("unsupported", f"{t.text} is a Siemens standard cycle that vmach does not simulate", t.col)
+    raise AssertionError
+
+
+def _arguments(p: BlockParser) -> tuple[Node | None, ...]:
+    """``(a, , b)``: expressions, empty places (None), and names the program does not define
+    (an axis ``X``, a mode constant ``_FINISH``) kept as text."""
+    p.expect_op("(")
+    args: list[Node | None] = []
+    if not p.is_op(")"):
+        while True:
+            tok = p.tok
+            if p.is_op(",") or p.is_op(")"):
+                args.append(None)
+            elif (tok.kind == IDENT and tok.text not in p.variables and not tok.text.startswith("$")
+                  and (p.is_op(",", 1) or p.is_op(")", 1))
+                  and not (tok.text[0] == "R" and tok.text[1:].isdigit())):
+                args.append(Node("str", tok.col, tok.text))
+                p.pos += 1
+            else:
+                args.append(p.expr())
+            if p.is_op(","):
+                p.pos += 1
+                continue
+            break
+    p.expect_op(")")
+    return tuple(args)
+
+
+_READERS: dict[str, Callable] = {
+    "keyword": _keyword,
+    "procedure": _procedure,
+    "setting_cycle": _procedure,
+    "value": _value,
+    "axis_value": _axis_value,
+    "position": _axis_value,
+    "alarm": _alarm,
+    "cycle": _cycle,
+}
+
+
+def is_command_start(p: BlockParser, name: str) -> bool:
+    """Whether ``name`` here starts a command of the table (a program file of a cycle's name
+    beside the program is called instead)."""
+    c = COMMANDS.get(name)
+    if c is None:
+        return False
+    if c.kind == "cycle" and name in p.g.programs:
+        return False
+    return not (c.kind == "keyword" and p.tok.kind == OP and p.tok.text == "[")
+
+
+# -- running -------------------------------------------------------------------------------
+class Recorder:
+    """Commands and codes a run met that have no effect on the simulated geometry: one
+    ``no_effect`` info per name, at its first block, with the count."""
+
+    def __init__(self) -> None:
+        self.seen: dict[str, list] = {}   # name -> [source, count, what it does]
+
+    def note(self, name: str, effect: str, src: SourceRef) -> None:
+        entry = self.seen.get(name)
+        if entry is None:
+            self.seen[name] = [src, 1, effect]
+        else:
+            entry[1] += 1
+
+    def findings(self) -> list[Finding]:
+        return [info("no_effect", f"{name}: {effect}; no effect on the geometry vmach simulates"
+                     + (f" ({count} times)" if count > 1 else ""), src, command=name, count=count)
+                for name, (src, count, effect) in self.seen.items()]
+
+
+def code_step(it: Interpreter, code, col: int, src: SourceRef) -> Callable:
+    """The step of an accepted G-group code (BRISK, COMPCAD, FNORM …): recorded."""
+    effect = f"{code.group_name.replace('_', ' ')} (G group {code.group})"
+    name = code.name
+    note = it.recorder.note
+    where = src.at(col)
+    return lambda v: note(name, effect, where)
+
+
+def step(it: Interpreter, item: b.Command, src: SourceRef, positions: list) -> Callable:
+    """The step of one command: evaluates what it holds, records or acts. ``positions``
+    collects the block's positioning moves (POS/POSA), run after its path motion."""
+    fs = [compile_expr(a, it.env) if a is not None else None for a in item.args]
+    kind = item.kind
+    name = item.name
+    if kind == "position":
+        f = fs[0]
+        word = b.Word(item.col, item.axis, "axis", item.args[0], None, item.mode)  # type: ignore[arg-type]
+        return lambda v: positions.append((word, _number(f(), name)))  # type: ignore[misc]
+    if kind == "alarm":
+        f = fs[0]
+
+        def alarm(v):
+            n = _number(f(), name)
+            raise ProgramError("program_alarm", f"SETAL({n:g}): the program raises alarm {n:g}",
+                               src.at(item.col), alarm=n)
+
+        return alarm
+    effect = COMMANDS[name].effect if name in COMMANDS else CODES[name].group_name
+    note = it.recorder.note
+
+    def record(v):
+        for g in fs:
+            if g is not None:
+                g()
+        note(name, effect, src.at(item.col))
+
+    return record
+
+
+def run_positions(it: Interpreter, positions: list, src: SourceRef) -> None:
+    """POS/POSA of one block: each axis traverses to its value after the path motion."""
+    machine = it.machine
+    motion = machine.motion
+    machine.motion = "G0"
+    try:
+        for word, value in positions:
+            machine.general_move([(word, value)], src)
+    finally:
+        machine.motion = motion
+        positions.clear()
+
+
+def _number(v, name: str):
+    if v.__class__ is str:
+        raise EvalError("type_error", f"{name} needs a number, not the string {v!r}")
+    return v
+
+
+__all__ = ["Recorder", "code_step", "is_command_start", "read", "run_positions", "step"]
