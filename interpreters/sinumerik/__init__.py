@@ -7,12 +7,17 @@ listed in ``DEVIATIONS.md``.
 
 from __future__ import annotations
 
-import difflib
-import os
 from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik.interpreter import Interpreter, find_subprogram, linked_outside, read_program
+from interpreters.sinumerik.commands import not_found
+from interpreters.sinumerik.interpreter import (
+    Interpreter,
+    find_subprogram,
+    linked_outside,
+    program_names,
+    read_program,
+)
 from vmach.canon import DEFAULT_CONTROL, ControlSpec, RunOptions, RunResult
 from vmach.findings import Finding, error, sort_key
 from vmach.source import SourceRef
@@ -34,13 +39,7 @@ def check(path: str | Path, control: ControlSpec = DEFAULT_CONTROL) -> list[Find
 def _names(program: b.Program, directory: Path, control: ControlSpec) -> list[Finding]:
     """Calls by name must reach a machine cycle or a subprogram file beside the program."""
     out: list[Finding] = []
-    try:
-        files = sorted(os.listdir(directory))
-    except OSError:
-        files = []
-    stems = sorted(
-        {os.path.splitext(f)[0].upper() for f in files if os.path.splitext(f)[1].upper() in (".SPF", ".MPF")}
-    )
+    stems = program_names(directory)
     for blk in program.blocks:
         for item in blk.items:
             if not isinstance(item, b.Call) or item.cycle:
@@ -53,19 +52,9 @@ def _names(program: b.Program, directory: Path, control: ControlSpec) -> list[Fi
                                  "program's directory; vmach reads subprograms only beside the program",
                                  SourceRef(program.path, blk.line, item.col, blk.text), name=item.name))
                 continue
-            pool = sorted(control.cycles) + stems
-            close = difflib.get_close_matches(item.name, pool, n=1, cutoff=0.75)
-            hint = f"; did you mean {close[0]}?" if close else ""
-            kind = "unknown_cycle" if not item.args else "subprogram_not_found"
-            out.append(
-                error(
-                    kind,
-                    f"{item.name} is neither a cycle the machine declares nor a subprogram "
-                    f"({item.name}.SPF/.MPF) beside the program{hint}",
-                    SourceRef(program.path, blk.line, item.col, blk.text),
-                    name=item.name,
-                )
-            )
+            kind, message = not_found(item.name, item.how, stems, control)
+            out.append(error(kind, message, SourceRef(program.path, blk.line, item.col, blk.text),
+                             name=item.name))
     return out
 
 

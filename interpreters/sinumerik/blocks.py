@@ -81,13 +81,15 @@ class FrameCmd:
 
 @dataclass(frozen=True, slots=True)
 class Call:
-    """Call of a subprogram or a machine cycle by name; ``repeat`` is the P count."""
+    """Call of a subprogram or a machine cycle by name; ``repeat`` is the P count; ``how``:
+    "CALL", "PCALL" or "EXTCALL" when the program names a file, "" for a call by name."""
 
     col: int
     name: str
     args: tuple[Node | None, ...] = ()
     cycle: bool = False
     repeat: Node | None = None
+    how: str = ""
 
 
 @dataclass(frozen=True, slots=True)

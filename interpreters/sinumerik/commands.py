@@ -22,10 +22,13 @@ as the keywords. The ``no_effect`` info is given once per command and run, with 
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik.drilling import CYCLES as DRILLING
+from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, Node, compile_expr
 from interpreters.sinumerik.language import CODES, COMMANDS
 from interpreters.sinumerik.lexer import IDENT, OP
@@ -209,10 +212,23 @@ def run_positions(it: Interpreter, positions: list, src: SourceRef) -> None:
         positions.clear()
 
 
+def not_found(name: str, how: str, programs, control) -> tuple[str, str]:
+    """Kind and message for a call whose program is not beside the caller: a file the program
+    names (CALL/PCALL/EXTCALL) is ``subprogram_not_found``; a name that is no command, cycle
+    or program is ``unknown_cycle``, with the nearest known name."""
+    if how:
+        return "subprogram_not_found", f"{how} {name}: no {name}.SPF or {name}.MPF beside the program"
+    pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *COMMANDS})
+    close = difflib.get_close_matches(name, pool, n=1, cutoff=0.75)
+    hint = f"; did you mean {close[0]}?" if close else ""
+    return "unknown_cycle", (f"{name} is no Sinumerik command, no cycle the machine declares and no "
+                             f"program {name}.SPF/.MPF beside the program{hint}")
+
+
 def _number(v, name: str):
     if v.__class__ is str:
         raise EvalError("type_error", f"{name} needs a number, not the string {v!r}")
     return v
 
 
-__all__ = ["Recorder", "code_step", "is_command_start", "read", "run_positions", "step"]
+__all__ = ["Recorder", "code_step", "is_command_start", "not_found", "read", "run_positions", "step"]

@@ -299,14 +299,14 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt, positions):
         if call is not None:
             if end is not None:
                 raise ProgramError("unsupported", "a subprogram call and a program end in one block", src)
-            name, args, col = call
+            name, args, col, how = call
             repeat = v.repeat if v.repeat is not None else 1
             if repeat < 1:
                 raise ProgramError("invalid_value", f"P{repeat}: the repeat count must be at least 1", src)
             ret = nxt
             if target is not None and (cond is None or cond()):
                 ret = target()
-            it.pending = (name, args, src.at(col), repeat, ret)
+            it.pending = (name, args, src.at(col), repeat, ret, how)
             return CALL
         if end is not None:
             if len(it.stack) == 1:
@@ -444,7 +444,7 @@ def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
     if isinstance(item, b.Call):
         fs = [compile_expr(a, env) if a is not None else None for a in item.args]
         targets = [_ref_target(a) for a in item.args]
-        name = item.name
+        name, how = item.name, item.how
         if item.cycle:
             return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
 
@@ -453,6 +453,7 @@ def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
                 name,
                 [((g() if g else None), t) for g, t in zip(fs, targets, strict=True)],
                 col,
+                how,
             )
 
         return call, col

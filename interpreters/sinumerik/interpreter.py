@@ -16,7 +16,7 @@ from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik import tracyl
-from interpreters.sinumerik.commands import Recorder
+from interpreters.sinumerik.commands import Recorder, not_found
 from interpreters.sinumerik.compile import CALL, SECTION, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
@@ -226,9 +226,9 @@ class Interpreter:
             self.blocks = count
             program = level.loaded.program
             if pc == CALL:
-                name, args, src, repeat, ret = self.pending  # type: ignore[misc]
+                name, args, src, repeat, ret, how = self.pending  # type: ignore[misc]
                 level.pc = ret
-                self.call(name, args, src, repeat)
+                self.call(name, args, src, repeat, how)
                 continue
             if pc == SECTION:
                 start, stop, repeat, src, ret = self.pending  # type: ignore[misc]
@@ -254,7 +254,9 @@ class Interpreter:
     def src(self, level: Level, blk: b.Block, col: int = 1) -> SourceRef:
         return SourceRef(level.loaded.program.path, blk.line, col, blk.text)
 
-    def call(self, name: str, args: list, src: SourceRef, repeat: int) -> None:
+    def call(self, name: str, args: list, src: SourceRef, repeat: int, how: str = "") -> None:
+        """Call ``name`` (``how``: "CALL", "PCALL", "EXTCALL" when the program names a file,
+        "" for a call by name)."""
         caller_dir = (
             Path(self.stack[-1].loaded.program.path).resolve().parent if self.stack else self.directory
         )
@@ -265,9 +267,8 @@ class Interpreter:
                 f"(to {link.resolve()}); vmach reads subprograms only from {caller_dir}", src
             )
         if path is None:
-            raise ProgramError(
-                "subprogram_not_found", f"{name}: no {name}.SPF or {name}.MPF in {caller_dir}", src
-            )
+            kind, message = not_found(name, how, program_names(caller_dir), self.control)
+            raise ProgramError(kind, f"{message} (in {caller_dir})", src, name=name)
         display = os.path.join(os.path.dirname(self.stack[-1].loaded.program.path), path.name)
         loaded = self.load(path, display)
         self.push(loaded, src, args, repeat)

@@ -237,13 +237,24 @@ class BlockParser:
             block.kind = "nc"
             block.items.append(b.Keyword(t.col, "RET"))
             self.expect_end("RET")
-        elif name == "CALL":
+        elif name in ("CALL", "EXTCALL"):
             block.kind = "nc"
             if self.tok.kind != STR:
-                self.fail("syntax", 'CALL needs a program name in quotes: CALL "NAME"')
-            block.items.append(b.Call(t.col, self.tok.value.upper()))
+                self.fail("syntax", f'{name} needs a program name in quotes: {name} "NAME"')
+            block.items.append(b.Call(t.col, program_name(self.tok.value, name), how=name))
             self.pos += 1
-            self.expect_end("CALL")
+            self.expect_end(name)
+        elif name == "PCALL":                     # PCALL /_N_WKS_DIR/_N_SUB_SPF(1, 2) or PCALL SUB
+            block.kind = "nc"
+            path = ""
+            while self.tok.kind == IDENT or self.is_op("/"):
+                path += self.tok.text
+                self.pos += 1
+            if not path:
+                self.fail("syntax", "PCALL needs a program name or path")
+            args = self.call_with_args(Token(IDENT, "PCALL", t.col)).args if self.is_op("(") else ()
+            block.items.append(b.Call(t.col, program_name(path, name), args, how=name))
+            self.expect_end(name)
         elif name == "EXTERN":
             block.kind = "empty"  # declaration of a subprogram's signature: nothing to run
             self.pos = len(self.toks) - 1
@@ -695,6 +706,21 @@ class BlockParser:
         close = difflib.get_close_matches(name, pool, n=1, cutoff=0.8)
         hint = f"; did you mean {close[0]}?" if close else ""
         return f"unknown word {full or name!r}{hint}"
+
+
+def program_name(text: str, how: str) -> str:
+    """The program a CALL/PCALL/EXTCALL names, as vmach looks it up beside the caller: the last
+    part of an NCK path (``/_N_WKS_DIR/_N_PART_WPD/_N_SUB_SPF``), or of any path for EXTCALL
+    (external storage), without ``_N_`` and ``_SPF``/``_MPF`` or ``.SPF``/``.MPF``. Any other
+    path is kept whole, so that it is found nowhere (vmach never leaves the directory)."""
+    name = text.strip().upper()
+    if name.startswith("/_N_") or how == "EXTCALL":
+        name = re.split(r"[/\\]", name)[-1]
+    if name.startswith("_N_") and name[-4:] in ("_SPF", "_MPF"):
+        name = name[3:-4]
+    if name[-4:] in (".SPF", ".MPF"):
+        name = name[:-4]
+    return name
 
 
 def _machine_code(name: str) -> Code:
