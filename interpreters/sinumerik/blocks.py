@@ -138,14 +138,17 @@ class VarDef:
     name: str
     dims: tuple[int, ...] = ()
     init: Node | None = None
-    init_list: tuple[Node, ...] = ()
+    init_list: tuple[Node | None, ...] = ()  # in row order; None: left as it is
 
 
 @dataclass(frozen=True, slots=True)
 class Param:
+    """A PROC parameter; ``dims``: the sizes of an array parameter (0: any), else ()."""
+
     type: str
     name: str
     by_ref: bool = False
+    dims: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

@@ -14,6 +14,7 @@ from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik import commands
 from interpreters.sinumerik.execute import Values
 from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num
+from interpreters.sinumerik.parser import unravel
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -48,9 +49,10 @@ def compile_block(it: Interpreter, program: b.Program, blk: b.Block) -> Callable
         for d in blk.defs:
             if d.init is not None:
                 inits.append((it.setter(b.Target(name=d.name)), compile_expr(d.init, env)))
-            for k, node in enumerate(d.init_list):
-                idx = b.Target(name=d.name, index=(_const(k, d.col),))
-                inits.append((it.setter(idx), compile_expr(node, env)))
+            for k, node in enumerate(d.init_list):   # row order: the last index fastest
+                if node is not None:
+                    idx = b.Target(name=d.name, index=tuple(_const(i, d.col) for i in unravel(k, d.dims)))
+                    inits.append((it.setter(idx), compile_expr(node, env)))
 
         def define():
             for setter, f in inits:
@@ -442,7 +444,7 @@ def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
             return msg, col
         return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
     if isinstance(item, b.Call):
-        fs = [compile_expr(a, env) if a is not None else None for a in item.args]
+        fs = [_argument(a, env) for a in item.args]
         targets = [_ref_target(a) for a in item.args]
         name, how = item.name, item.how
         if item.cycle:
@@ -466,6 +468,17 @@ def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
             return ret, col
         return (lambda v: None), col
     raise AssertionError(f"unknown item {item!r}")
+
+
+def _argument(node, env):
+    """A call argument's getter: a variable named alone passes its value as it is (an array
+    passes the array itself, for a PROC's array parameter)."""
+    if node is None:
+        return None
+    if node.op == "var" and not node.args:
+        name = node.value
+        return lambda: env.vars[name]
+    return compile_expr(node, env)
 
 
 def _ref_target(node) -> b.Target | None:

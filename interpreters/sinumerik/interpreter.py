@@ -164,6 +164,9 @@ class Interpreter:
                 )
             for i, p in enumerate(proc.params):
                 value, target = args[i] if i < len(args) else (None, None)
+                if p.dims or isinstance(value, list):        # an array: passed by reference
+                    variables[p.name] = _array_argument(p, value, src)
+                    continue
                 variables[p.name] = _convert(p.type, value if value is not None else _default(p.type), p.name)
                 if p.by_ref and target is not None:
                     level.back.append((p.name, target))
@@ -345,6 +348,22 @@ class Interpreter:
             )
 
         return missing
+
+
+def _array_argument(p: b.Param, value, src: SourceRef) -> list:
+    """The caller's array itself for the array parameter ``p`` (``VAR REAL A[3]``): what the
+    subprogram writes, the caller reads."""
+    if not p.dims or not isinstance(value, list):
+        what = "an array" if isinstance(value, list) else "no array"
+        raise ProgramError("type_error", f"{p.name}: {what} passed to a parameter that takes "
+                           f"{'an array' if p.dims else 'a value'}", src)
+    inner = value
+    for n in p.dims:
+        if not isinstance(inner, list) or (n and len(inner) != n):
+            raise ProgramError("type_error", f"{p.name}: the array passed has not the sizes "
+                               f"{list(p.dims)} of the parameter", src)
+        inner = inner[0] if inner else None
+    return value
 
 
 def _default(typ: str):

@@ -360,19 +360,11 @@ class BlockParser:
                     self.fail("resource_limit", f"{nt.text} has {math.prod(dims)} elements (vmach simulates "
                               f"arrays of up to {MAX_ARRAY_ELEMENTS})", nt.col)
             init = None
-            init_list: tuple[Node, ...] = ()
+            init_list: tuple[Node | None, ...] = ()
             if self.is_op("="):
                 self.pos += 1
                 if dims:
-                    if self.tok.kind == IDENT and self.tok.text == "SET":
-                        self.pos += 1
-                    self.expect_op("(")
-                    items = [self.expr()]
-                    while self.is_op(","):
-                        self.pos += 1
-                        items.append(self.expr())
-                    self.expect_op(")")
-                    init_list = tuple(items)
+                    init_list = self.value_list(math.prod(dims), nt.text)
                 elif typ == "AXIS" and self.tok.kind == IDENT and self.g.is_axis(self.tok.text):
                     init = Node("str", self.tok.col, self.tok.text)
                     self.pos += 1
@@ -387,6 +379,83 @@ class BlockParser:
                 break
             self.pos += 1
         self.expect_end("the definition")
+
+    def value_list(self, room: int, name: str) -> tuple[Node | None, ...]:
+        """``SET(a, , b)``, ``(a, b)`` or ``REP(v[, n])``: values for consecutive elements in
+        row order (the last index fastest); None keeps an element as it is. ``room``: elements
+        from the first one written to the array's end."""
+        col = self.tok.col
+        if self.tok.kind == IDENT and self.tok.text == "REP":
+            self.pos += 1
+            self.expect_op("(")
+            value = self.expr()
+            count: int = room
+            if self.is_op(","):
+                self.pos += 1
+                n = self.tok
+                if n.kind != NUM or not isinstance(n.value, int) or n.value < 1:
+                    self.fail("syntax", "REP(value, n) needs a whole number of elements n >= 1")
+                count = n.value
+                self.pos += 1
+            self.expect_op(")")
+            values: list[Node | None] = [value] * count
+        else:
+            if self.tok.kind == IDENT and self.tok.text == "SET":
+                self.pos += 1
+            self.expect_op("(")
+            values = []
+            while True:
+                values.append(None if self.is_op(",") or self.is_op(")") else self.expr())
+                if not self.is_op(","):
+                    break
+                self.pos += 1
+            self.expect_op(")")
+        if len(values) > room:
+            self.fail("index_range", f"{len(values)} values for {room} element(s) of {name}", col)
+        return tuple(values)
+
+    def rep_counted(self) -> bool:
+        """Whether the REP(...) ahead gives its count (a ',' at its top level)."""
+        depth = 0
+        for tok in self.toks[self.pos + 1:]:
+            if tok.kind == OP and tok.text in "([":
+                depth += 1
+            elif tok.kind == OP and tok.text in ")]":
+                depth -= 1
+                if depth == 0:
+                    return False
+            elif tok.kind == OP and tok.text == "," and depth == 1:
+                return True
+        return False
+
+    def array_fill(self, t: Token, target: b.Target) -> list[b.Item]:
+        """``A[i, j]=SET(...)`` / ``A[i]=REP(...)``: one assignment per value, from element
+        ``[i, j]`` on in row order (constant indices; a variable index on a 1-D array)."""
+        d = self.variables[target.name]
+        dims = getattr(d, "dims", ())
+        if not dims:
+            self.fail("type_error", f"{target.name} is not an array; SET/REP fill arrays", t.col)
+        idx = target.index or tuple(_num_node(0, t.col) for _ in dims)
+        if len(idx) != len(dims):
+            self.fail("index_range", f"{target.name} has {len(dims)} dimension(s)", t.col)
+        if all(x.op == "num" for x in idx):
+            start = 0
+            for x, n in zip(idx, dims, strict=True):
+                if not (isinstance(x.value, int) and 0 <= x.value < n):
+                    self.fail("index_range", f"{target.name}[...]: index {x.value} is outside "
+                              f"0..{n - 1}", t.col)
+                start = start * n + x.value
+            values = self.value_list(math.prod(dims) - start, target.name)
+            return [b.Assign(t.col, b.Target(name=target.name, index=tuple(
+                _num_node(i, t.col) for i in unravel(start + k, dims))), v)
+                for k, v in enumerate(values) if v is not None]
+        if len(dims) > 1 or (self.is_op("(", 1) and self.tok.text == "REP" and not self.rep_counted()):
+            self.fail("unsupported", f"{target.name}[...]=SET/REP with a computed index is simulated on "
+                      "arrays of one dimension, and REP there with its count", t.col)
+        values = self.value_list(dims[0], target.name)
+        return [b.Assign(t.col, b.Target(name=target.name, index=(
+            Node("+", t.col, None, (idx[0], _num_node(k, t.col))),)), v)
+            for k, v in enumerate(values) if v is not None]
 
     def proc_header(self, t: Token) -> b.ProcHeader:
         nt = self.tok
@@ -413,13 +482,17 @@ class BlockParser:
                 if pn.kind != IDENT:
                     self.fail("syntax", "a PROC parameter needs a name")
                 self.pos += 1
-                if self.is_op("["):  # array parameter
+                dims: list[int] = []
+                if self.is_op("["):  # array parameter: VAR REAL A[3] (A[] or A[,] of any size)
                     while not self.is_op("]"):
                         if self.tok.kind == END:
                             self.fail("syntax", "unclosed '['")
+                        if self.tok.kind == NUM:
+                            dims.append(int(self.tok.value))
                         self.pos += 1
                     self.pos += 1
-                p = b.Param(tt.text, pn.text, by_ref)
+                    dims = dims or [0]
+                p = b.Param(tt.text, pn.text, by_ref, tuple(dims))
                 params.append(p)
                 self.variables[pn.text] = p
                 if self.is_op(","):
@@ -455,7 +528,8 @@ class BlockParser:
             elif name in ("SPOS", "SPOSA") and self.is_op("["):     # SPOS[n]=...: spindle n
                 items.append(self.spindle_position(t))
             elif self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R")):
-                items.append(self.assignment(t))
+                item = self.assignment(t)
+                items.extend(item if isinstance(item, list) else (item,))
             elif self.is_op("("):
                 items.append(self.call_with_args(t))
             else:
@@ -475,11 +549,14 @@ class BlockParser:
                     )
                 groups[it.code.group] = it
 
-    def assignment(self, t: Token) -> b.Item:
+    def assignment(self, t: Token) -> b.Item | list[b.Item]:
         name = t.text
         if name == "R" or (name[0] == "R" and name[1:].isdigit()) or name in self.variables:
             target = self.target(t)
             self.expect_op("=")
+            if target.name is not None and self.tok.kind == IDENT and self.tok.text in ("SET", "REP") \
+                    and self.is_op("(", 1):
+                return self.array_fill(t, target)
             return b.Assign(t.col, target, self.expr())
         self.pos += 1  # '='
         return self.address(t, name)
@@ -721,6 +798,15 @@ def program_name(text: str, how: str) -> str:
     if name[-4:] in (".SPF", ".MPF"):
         name = name[:-4]
     return name
+
+
+def unravel(k: int, dims: tuple[int, ...]) -> tuple[int, ...]:
+    """Indices of the ``k``-th element of an array of ``dims`` in row order."""
+    out = []
+    for n in reversed(dims):
+        k, i = divmod(k, n)
+        out.append(i)
+    return tuple(reversed(out))
 
 
 def _machine_code(name: str) -> Code:
