@@ -78,9 +78,9 @@ def test_println_is_rejected_at_its_line(rel):
     found = sinumerik.check(path, control_for(rel))
     assert set(PRINTLN[rel]) <= {f.line for f in found if f.kind == "unknown_cycle"}
     r = sinumerik.run(path, control_for(rel))
-    assert not r.completed
-    last = [f for f in r.findings if f.severity == "error"][-1]
-    if last.source.path.endswith(rel.split("/")[-1]) and last.line in PRINTLN[rel]:
-        assert last.kind == "unknown_cycle"   # reached: rejected there
-    else:
-        assert last.kind != "unknown_cycle"   # stopped earlier, for another reason
+    errors = [f for f in r.findings if f.severity == "error"]
+    reached = [f for f in errors if f.source.path == str(path) and f.line in PRINTLN[rel]]
+    # where the run reaches a println it stops there with unknown_cycle; a run may end (RET
+    # in proc1_test's main) or stop for another reason (no feed, an unknown axis) before it
+    assert [f.kind for f in reached] in ([], ["unknown_cycle"])
+    assert r.completed == (errors == [])
