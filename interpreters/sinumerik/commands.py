@@ -27,6 +27,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik import sandbox
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, Node, compile_expr
@@ -123,6 +124,7 @@ _READERS: dict[str, Callable] = {
     "axis_value": _axis_value,
     "position": _axis_value,
     "alarm": _alarm,
+    "file": _procedure,
     "cycle": _cycle,
 }
 
@@ -146,17 +148,18 @@ class Recorder:
     def __init__(self) -> None:
         self.seen: dict[str, list] = {}   # name -> [source, count, what it does]
 
-    def note(self, name: str, effect: str, src: SourceRef) -> None:
+    def note(self, name: str, effect: str, src: SourceRef, kind: str = "no_effect") -> None:
         entry = self.seen.get(name)
         if entry is None:
-            self.seen[name] = [src, 1, effect]
+            self.seen[name] = [src, 1, effect, kind]
         else:
             entry[1] += 1
 
     def findings(self) -> list[Finding]:
-        return [info("no_effect", f"{name}: {effect}; no effect on the geometry vmach simulates"
-                     + (f" ({count} times)" if count > 1 else ""), src, command=name, count=count)
-                for name, (src, count, effect) in self.seen.items()]
+        tail = {"no_effect": "; no effect on the geometry vmach simulates", "file_sandbox": ""}
+        return [info(kind, f"{name}: {effect}{tail[kind]}" + (f" ({count} times)" if count > 1 else ""),
+                     src, command=name, count=count)
+                for name, (src, count, effect, kind) in self.seen.items()]
 
 
 def code_step(it: Interpreter, code, col: int, src: SourceRef) -> Callable:
@@ -178,6 +181,8 @@ def step(it: Interpreter, item: b.Command, src: SourceRef, positions: list) -> C
         f = fs[0]
         word = b.Word(item.col, item.axis, "axis", item.args[0], None, item.mode)  # type: ignore[arg-type]
         return lambda v: positions.append((word, _number(f(), name)))  # type: ignore[misc]
+    if kind == "file":
+        return sandbox.step(it, item, src)
     if kind == "alarm":
         f = fs[0]
 

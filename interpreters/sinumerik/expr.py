@@ -114,6 +114,7 @@ FUNCTIONS: dict[str, tuple[int, int]] = {
     "MINVAL": (2, 2),
     "MAXVAL": (2, 2),
     "BOUND": (3, 3),
+    "ISFILE": (1, 1),
 }
 
 
@@ -478,11 +479,12 @@ class Env:
     vars : dict name -> value or list — local variables of the running program level.
     """
 
-    __slots__ = ("r", "vars")
+    __slots__ = ("r", "vars", "files")
 
     def __init__(self) -> None:
         self.r: list[Any] = [0.0] * 1000
         self.vars: dict[str, Any] = {}
+        self.files: Any = None  # the run's file sandbox (sandbox.Sandbox), for ISFILE
 
 
 def r_index(i: Any) -> int:
@@ -538,6 +540,9 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
             return lst[i]
 
         return get_elem
+    if op == "call" and node.value == "ISFILE":    # the run's sandbox: never folded
+        fa = compile_expr(node.args[0], env)
+        return lambda: env.files is not None and env.files.exists(fa())
     if op == "call":
         impl = FUNC_IMPL[node.value]
         fs = [compile_expr(a, env) for a in node.args]

@@ -22,6 +22,7 @@ from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
 from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
 from interpreters.sinumerik.parser import parse_program
+from interpreters.sinumerik.sandbox import Sandbox
 from interpreters.sinumerik.structure import analyse, find_target
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
@@ -118,6 +119,8 @@ class Interpreter:
         self.pending: tuple | None = None
         self.blocks = 0
         self.recorder = Recorder()      # commands without effect on geometry (no_effect infos)
+        self.sandbox = Sandbox()        # WRITE/READ/DELETE/ISFILE files: in memory, empty at start
+        self.env.files = self.sandbox
 
     # -- loading ---------------------------------------------------------------------------
     def load(self, path: Path, display: str) -> Loaded:
