@@ -23,6 +23,7 @@ as the keywords. The ``no_effect`` info is given once per command and run, with 
 from __future__ import annotations
 
 import difflib
+import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -228,6 +229,21 @@ def not_found(name: str, how: str, programs, control) -> tuple[str, str]:
     hint = f"; did you mean {close[0]}?" if close else ""
     return "unknown_cycle", (f"{name} is no Sinumerik command, no cycle the machine declares and no "
                              f"program {name}.SPF/.MPF beside the program{hint}")
+
+
+def program_name(text: str, how: str) -> str:
+    """The program a CALL/PCALL/EXTCALL names, as vmach looks it up beside the caller: the last
+    part of an NCK path (``/_N_WKS_DIR/_N_PART_WPD/_N_SUB_SPF``), or of any path for EXTCALL
+    (external storage), without ``_N_`` and ``_SPF``/``_MPF`` or ``.SPF``/``.MPF``. Any other
+    path is kept whole, so that it is found nowhere (vmach never leaves the directory)."""
+    name = text.strip().upper()
+    if name.startswith("/_N_") or how == "EXTCALL":
+        name = re.split(r"[/\\]", name)[-1]
+    if name.startswith("_N_") and name[-4:] in ("_SPF", "_MPF"):
+        name = name[3:-4]
+    if name[-4:] in (".SPF", ".MPF"):
+        name = name[:-4]
+    return name
 
 
 def _number(v, name: str):

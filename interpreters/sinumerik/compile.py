@@ -12,9 +12,9 @@ from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik import commands
+from interpreters.sinumerik.arrays import unravel
 from interpreters.sinumerik.execute import Values
 from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num
-from interpreters.sinumerik.parser import unravel
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef

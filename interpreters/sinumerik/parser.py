@@ -10,8 +10,8 @@ import difflib
 import math
 import re
 
+from interpreters.sinumerik import arrays, commands
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import commands
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import FUNCTIONS, MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
@@ -241,7 +241,7 @@ class BlockParser:
             block.kind = "nc"
             if self.tok.kind != STR:
                 self.fail("syntax", f'{name} needs a program name in quotes: {name} "NAME"')
-            block.items.append(b.Call(t.col, program_name(self.tok.value, name), how=name))
+            block.items.append(b.Call(t.col, commands.program_name(self.tok.value, name), how=name))
             self.pos += 1
             self.expect_end(name)
         elif name == "PCALL":                     # PCALL /_N_WKS_DIR/_N_SUB_SPF(1, 2) or PCALL SUB
@@ -253,7 +253,7 @@ class BlockParser:
             if not path:
                 self.fail("syntax", "PCALL needs a program name or path")
             args = self.call_with_args(Token(IDENT, "PCALL", t.col)).args if self.is_op("(") else ()
-            block.items.append(b.Call(t.col, program_name(path, name), args, how=name))
+            block.items.append(b.Call(t.col, commands.program_name(path, name), args, how=name))
             self.expect_end(name)
         elif name == "EXTERN":
             block.kind = "empty"  # declaration of a subprogram's signature: nothing to run
@@ -364,7 +364,7 @@ class BlockParser:
             if self.is_op("="):
                 self.pos += 1
                 if dims:
-                    init_list = self.value_list(math.prod(dims), nt.text)
+                    init_list = arrays.value_list(self, math.prod(dims), nt.text)
                 elif typ == "AXIS" and self.tok.kind == IDENT and self.g.is_axis(self.tok.text):
                     init = Node("str", self.tok.col, self.tok.text)
                     self.pos += 1
@@ -379,83 +379,6 @@ class BlockParser:
                 break
             self.pos += 1
         self.expect_end("the definition")
-
-    def value_list(self, room: int, name: str) -> tuple[Node | None, ...]:
-        """``SET(a, , b)``, ``(a, b)`` or ``REP(v[, n])``: values for consecutive elements in
-        row order (the last index fastest); None keeps an element as it is. ``room``: elements
-        from the first one written to the array's end."""
-        col = self.tok.col
-        if self.tok.kind == IDENT and self.tok.text == "REP":
-            self.pos += 1
-            self.expect_op("(")
-            value = self.expr()
-            count: int = room
-            if self.is_op(","):
-                self.pos += 1
-                n = self.tok
-                if n.kind != NUM or not isinstance(n.value, int) or n.value < 1:
-                    self.fail("syntax", "REP(value, n) needs a whole number of elements n >= 1")
-                count = n.value
-                self.pos += 1
-            self.expect_op(")")
-            values: list[Node | None] = [value] * count
-        else:
-            if self.tok.kind == IDENT and self.tok.text == "SET":
-                self.pos += 1
-            self.expect_op("(")
-            values = []
-            while True:
-                values.append(None if self.is_op(",") or self.is_op(")") else self.expr())
-                if not self.is_op(","):
-                    break
-                self.pos += 1
-            self.expect_op(")")
-        if len(values) > room:
-            self.fail("index_range", f"{len(values)} values for {room} element(s) of {name}", col)
-        return tuple(values)
-
-    def rep_counted(self) -> bool:
-        """Whether the REP(...) ahead gives its count (a ',' at its top level)."""
-        depth = 0
-        for tok in self.toks[self.pos + 1:]:
-            if tok.kind == OP and tok.text in "([":
-                depth += 1
-            elif tok.kind == OP and tok.text in ")]":
-                depth -= 1
-                if depth == 0:
-                    return False
-            elif tok.kind == OP and tok.text == "," and depth == 1:
-                return True
-        return False
-
-    def array_fill(self, t: Token, target: b.Target) -> list[b.Item]:
-        """``A[i, j]=SET(...)`` / ``A[i]=REP(...)``: one assignment per value, from element
-        ``[i, j]`` on in row order (constant indices; a variable index on a 1-D array)."""
-        d = self.variables[target.name]
-        dims = getattr(d, "dims", ())
-        if not dims:
-            self.fail("type_error", f"{target.name} is not an array; SET/REP fill arrays", t.col)
-        idx = target.index or tuple(_num_node(0, t.col) for _ in dims)
-        if len(idx) != len(dims):
-            self.fail("index_range", f"{target.name} has {len(dims)} dimension(s)", t.col)
-        if all(x.op == "num" for x in idx):
-            start = 0
-            for x, n in zip(idx, dims, strict=True):
-                if not (isinstance(x.value, int) and 0 <= x.value < n):
-                    self.fail("index_range", f"{target.name}[...]: index {x.value} is outside "
-                              f"0..{n - 1}", t.col)
-                start = start * n + x.value
-            values = self.value_list(math.prod(dims) - start, target.name)
-            return [b.Assign(t.col, b.Target(name=target.name, index=tuple(
-                _num_node(i, t.col) for i in unravel(start + k, dims))), v)
-                for k, v in enumerate(values) if v is not None]
-        if len(dims) > 1 or (self.is_op("(", 1) and self.tok.text == "REP" and not self.rep_counted()):
-            self.fail("unsupported", f"{target.name}[...]=SET/REP with a computed index is simulated on "
-                      "arrays of one dimension, and REP there with its count", t.col)
-        values = self.value_list(dims[0], target.name)
-        return [b.Assign(t.col, b.Target(name=target.name, index=(
-            Node("+", t.col, None, (idx[0], _num_node(k, t.col))),)), v)
-            for k, v in enumerate(values) if v is not None]
 
     def proc_header(self, t: Token) -> b.ProcHeader:
         nt = self.tok
@@ -556,7 +479,7 @@ class BlockParser:
             self.expect_op("=")
             if target.name is not None and self.tok.kind == IDENT and self.tok.text in ("SET", "REP") \
                     and self.is_op("(", 1):
-                return self.array_fill(t, target)
+                return arrays.fill(self, t, target)
             return b.Assign(t.col, target, self.expr())
         self.pos += 1  # '='
         return self.address(t, name)
@@ -783,30 +706,6 @@ class BlockParser:
         close = difflib.get_close_matches(name, pool, n=1, cutoff=0.8)
         hint = f"; did you mean {close[0]}?" if close else ""
         return f"unknown word {full or name!r}{hint}"
-
-
-def program_name(text: str, how: str) -> str:
-    """The program a CALL/PCALL/EXTCALL names, as vmach looks it up beside the caller: the last
-    part of an NCK path (``/_N_WKS_DIR/_N_PART_WPD/_N_SUB_SPF``), or of any path for EXTCALL
-    (external storage), without ``_N_`` and ``_SPF``/``_MPF`` or ``.SPF``/``.MPF``. Any other
-    path is kept whole, so that it is found nowhere (vmach never leaves the directory)."""
-    name = text.strip().upper()
-    if name.startswith("/_N_") or how == "EXTCALL":
-        name = re.split(r"[/\\]", name)[-1]
-    if name.startswith("_N_") and name[-4:] in ("_SPF", "_MPF"):
-        name = name[3:-4]
-    if name[-4:] in (".SPF", ".MPF"):
-        name = name[:-4]
-    return name
-
-
-def unravel(k: int, dims: tuple[int, ...]) -> tuple[int, ...]:
-    """Indices of the ``k``-th element of an array of ``dims`` in row order."""
-    out = []
-    for n in reversed(dims):
-        k, i = divmod(k, n)
-        out.append(i)
-    return tuple(reversed(out))
 
 
 def _machine_code(name: str) -> Code:
