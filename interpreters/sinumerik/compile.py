@@ -156,6 +156,8 @@ def _endfor(it, program, blk, src):
     if blk.partner < 0:
         return _alarm("unbalanced_block", "ENDFOR without FOR", src)
     head = program.blocks[blk.partner]
+    if head.kind == "bad":              # its FOR did not parse: reaching this is that error
+        return _alarm(head.error.kind, head.error.message, src)
     setter = it.setter(head.for_target)
     getter = _getter(it, head.for_target)
     h, body, nxt = head.index, head.index + 1, blk.index + 1

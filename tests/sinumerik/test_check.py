@@ -154,3 +154,10 @@ def test_a_structure_whose_head_does_not_parse_still_pairs(tmp_path, head):
     found = check(tmp_path, text)
     assert [(f.kind, f.line) for f in found if f.severity == "error"] == [(found[0].kind, 2)]
     assert "unbalanced_block" not in [f.kind for f in found]
+
+
+def test_a_for_that_does_not_parse_stops_the_run_at_itself(tmp_path):
+    # its ENDFOR pairs with it (no cascade) and the run stops at the FOR with its own error
+    r = run(tmp_path, "G0 X1\nFOR NN=0 TO 1\nG0 X2\nENDFOR\nM30\n")
+    f = [x for x in r.findings if x.severity == "error"]
+    assert not r.completed and [(x.kind, x.line) for x in f] == [("undefined_variable", 2)]
