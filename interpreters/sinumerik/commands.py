@@ -31,9 +31,9 @@ from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik import sandbox
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
-from interpreters.sinumerik.expr import EvalError, Node, compile_expr
+from interpreters.sinumerik.expr import EvalError, compile_expr
 from interpreters.sinumerik.language import CODES, COMMANDS
-from interpreters.sinumerik.lexer import IDENT, OP
+from interpreters.sinumerik.lexer import IDENT, NUM, OP
 from vmach.errors import ProgramError
 from vmach.findings import Finding, info
 from vmach.source import SourceRef
@@ -57,7 +57,7 @@ def _keyword(p: BlockParser, t) -> b.Item:
 
 
 def _procedure(p: BlockParser, t) -> b.Item:
-    return b.Command(t.col, t.text, COMMANDS[t.text].kind, _arguments(p) if p.is_op("(") else ())
+    return b.Command(t.col, t.text, COMMANDS[t.text].kind, p.arguments(loose=True) if p.is_op("(") else ())
 
 
 def _value(p: BlockParser, t) -> b.Item:
@@ -92,29 +92,17 @@ def _cycle(p: BlockParser, t) -> b.Item:
     raise AssertionError
 
 
-def _arguments(p: BlockParser) -> tuple[Node | None, ...]:
-    """``(a, , b)``: expressions, empty places (None), and names the program does not define
-    (an axis ``X``, a mode constant ``_FINISH``) kept as text."""
-    p.expect_op("(")
-    args: list[Node | None] = []
-    if not p.is_op(")"):
-        while True:
-            tok = p.tok
-            if p.is_op(",") or p.is_op(")"):
-                args.append(None)
-            elif (tok.kind == IDENT and tok.text not in p.variables and not tok.text.startswith("$")
-                  and (p.is_op(",", 1) or p.is_op(")", 1))
-                  and not (tok.text[0] == "R" and tok.text[1:].isdigit())):
-                args.append(Node("str", tok.col, tok.text))
-                p.pos += 1
-            else:
-                args.append(p.expr())
-            if p.is_op(","):
-                p.pos += 1
-                continue
-            break
-    p.expect_op(")")
-    return tuple(args)
+def spindle_position(p: BlockParser, t) -> b.Word:
+    """``SPOS[n]=value`` / ``SPOSA[n]=value`` (the ``[`` is next)."""
+    p.pos += 1
+    n = p.tok
+    if n.kind != NUM or not isinstance(n.value, int):
+        p.fail("syntax", f"{t.text}[n] needs a spindle number")
+    p.pos += 1
+    p.expect_op("]")
+    p.expect_op("=")
+    mode, node = p.moded_value()
+    return b.Word(t.col, f"{t.text}{n.value}", "spos", node, n.value, mode)
 
 
 _READERS: dict[str, Callable] = {
@@ -252,4 +240,5 @@ def _number(v, name: str):
     return v
 
 
-__all__ = ["Recorder", "code_step", "is_command_start", "not_found", "read", "run_positions", "step"]
+__all__ = ["Recorder", "code_step", "is_command_start", "not_found", "read", "run_positions",
+           "spindle_position", "step"]

@@ -449,7 +449,7 @@ class BlockParser:
             if commands.is_command_start(self, name):
                 items.append(commands.read(self, t))
             elif name in ("SPOS", "SPOSA") and self.is_op("["):     # SPOS[n]=...: spindle n
-                items.append(self.spindle_position(t))
+                items.append(commands.spindle_position(self, t))
             elif self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R")):
                 item = self.assignment(t)
                 items.extend(item if isinstance(item, list) else (item,))
@@ -510,18 +510,6 @@ class BlockParser:
         self.fail("unknown_word", self.unknown_word_message(name), t.col)
         raise AssertionError
 
-    def spindle_position(self, t: Token) -> b.Word:
-        """``SPOS[n]=value`` / ``SPOSA[n]=value`` (the ``[`` is next)."""
-        self.pos += 1
-        n = self.tok
-        if n.kind != NUM or not isinstance(n.value, int):
-            self.fail("syntax", f"{t.text}[n] needs a spindle number")
-        self.pos += 1
-        self.expect_op("]")
-        self.expect_op("=")
-        mode, node = self.moded_value()
-        return b.Word(t.col, f"{t.text}{n.value}", "spos", node, n.value, mode)
-
     def moded_value(self) -> tuple[str | None, Node]:
         t = self.tok
         if t.kind == IDENT and t.text in _MODES and self.is_op("(", 1):
@@ -552,25 +540,37 @@ class BlockParser:
             self.fail("unsupported", f"{name} is not simulated", t.col)
         if (name in CODES and name not in _BUILTINS) or name in ACCEPTED_WORDS or name in self.variables:
             self.fail("syntax", f"{name} takes no arguments", t.col)
-        self.expect_op("(")
-        args: list[Node | None] = []
-        if not self.is_op(")"):
-            while True:
-                if self.is_op(",") or self.is_op(")"):
-                    args.append(None)
-                else:
-                    args.append(self.expr())
-                if self.is_op(","):
-                    self.pos += 1
-                    continue
-                break
-        self.expect_op(")")
+        args = self.arguments()
         if name in _BUILTINS:
             if name == "SETMS" and len(args) > 1:
                 self.fail("syntax", "SETMS takes at most one spindle number", t.col)
             return b.Builtin(t.col, name, tuple(args))
         standard = name in DRILLING or name in PATTERNS
         return b.Call(t.col, name, tuple(args), cycle=name in self.g.cycles or standard)
+
+    def arguments(self, loose: bool = False) -> tuple[Node | None, ...]:
+        """``(a, , b)``: expressions and empty places (None). ``loose``: a name the program does
+        not define, alone in its place (an axis ``X``, a mode constant ``_FINISH``), is kept as
+        text."""
+        self.expect_op("(")
+        args: list[Node | None] = []
+        if not self.is_op(")"):
+            while True:
+                tok = self.tok
+                if self.is_op(",") or self.is_op(")"):
+                    args.append(None)
+                elif loose and tok.kind == IDENT and tok.text not in self.variables \
+                        and not tok.text.startswith("$") and (self.is_op(",", 1) or self.is_op(")", 1)) \
+                        and not (tok.text[0] == "R" and tok.text[1:].isdigit()):
+                    args.append(Node("str", tok.col, tok.text))
+                    self.pos += 1
+                else:
+                    args.append(self.expr())
+                if not self.is_op(","):
+                    break
+                self.pos += 1
+        self.expect_op(")")
+        return tuple(args)
 
     def plain(self, t: Token, block: b.Block) -> b.Item | None:
         """A word without '=': G code, keyword, address+number, or a call by name."""
