@@ -32,19 +32,22 @@ def check(path: str | Path, control: ControlSpec = DEFAULT_CONTROL) -> list[Find
     p = Path(path)
     loaded = read_program(p, str(path), control)
     findings = list(loaded.findings)
-    findings += _names(loaded.program, p.resolve().parent, control)
+    findings += _names(loaded.program, p.resolve().parent, control, frozenset(loaded.archive))
     return sorted(findings, key=sort_key)
 
 
-def _names(program: b.Program, directory: Path, control: ControlSpec) -> list[Finding]:
-    """Calls by name must reach a machine cycle or a subprogram file beside the program."""
+def _names(
+    program: b.Program, directory: Path, control: ControlSpec, archived: frozenset[str]
+) -> list[Finding]:
+    """Calls by name must reach a machine cycle, a subprogram file beside the program or a
+    later program of its own file (an archive)."""
     out: list[Finding] = []
-    stems = program_names(directory)
+    stems = program_names(directory) | archived
     for blk in program.blocks:
         for item in blk.items:
             if not isinstance(item, b.Call) or item.cycle:
                 continue
-            if find_subprogram(directory, item.name) is not None:
+            if item.name in archived or find_subprogram(directory, item.name) is not None:
                 continue
             link = linked_outside(directory, item.name)
             if link is not None:

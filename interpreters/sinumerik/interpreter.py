@@ -14,8 +14,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from interpreters.sinumerik import archive, tracyl
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import tracyl
 from interpreters.sinumerik.commands import Recorder, not_found
 from interpreters.sinumerik.compile import CALL, SECTION, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
@@ -39,6 +39,7 @@ class Loaded:
     program: b.Program
     findings: list[Finding]
     ops: list[Callable[[], int]] | None = None
+    archive: dict[str, str] = field(default_factory=dict)  # later programs of its file (archive.py)
 
 
 @dataclass(slots=True)
@@ -55,11 +56,13 @@ class Level:
     stop: int | None = None
 
 
-def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
-    program = parse_program(decode_text(read_bytes(path, display)), display, control,
-                            program_names(path.resolve().parent))
-    findings = list(program.findings) + analyse(program)
-    return Loaded(program, findings)
+def read_program(path: Path, display: str, control: ControlSpec, text: str | None = None) -> Loaded:
+    """The program in ``path`` (or ``text``, a section of it), parsed and analysed."""
+    text = decode_text(read_bytes(path, display)) if text is None else text
+    main, others, notes = archive.split(text, display)
+    program = parse_program(main, display, control, program_names(path.resolve().parent) | frozenset(others))
+    findings = notes + list(program.findings) + analyse(program)
+    return Loaded(program, findings, archive=others)
 
 
 def _entry(directory: Path, name: str) -> Path | None:
@@ -118,6 +121,7 @@ class Interpreter:
         self.stack: list[Level] = []
         self.pending: tuple | None = None
         self.blocks = 0
+        self.archive: dict[str, tuple] = {}  # name -> (file, display, text): later programs of a file
         self.recorder = Recorder()      # commands without effect on geometry (no_effect infos)
         self.sandbox = Sandbox()        # WRITE/READ/DELETE/ISFILE files: in memory, empty at start
         self.env.files = self.sandbox
@@ -127,6 +131,8 @@ class Interpreter:
         key = str(path.resolve())
         if key not in self.loaded:
             self.loaded[key] = read_program(path, display, self.control)
+            for name, text in self.loaded[key].archive.items():   # programs of an archive file
+                self.archive.setdefault(name, (path, display, text))
         return self.loaded[key]
 
     def ops(self, loaded: Loaded) -> list[Callable[[], int]]:
@@ -266,6 +272,13 @@ class Interpreter:
         caller_dir = (
             Path(self.stack[-1].loaded.program.path).resolve().parent if self.stack else self.directory
         )
+        if name in self.archive:                   # a later program of an archive file
+            path, display, text = self.archive[name]
+            key = f"{path.resolve()}#{name}"
+            if key not in self.loaded:
+                self.loaded[key] = read_program(path, display, self.control, text)
+            self.push(self.loaded[key], src, args, repeat)
+            return
         path = find_subprogram(caller_dir, name)
         if path is None and (link := linked_outside(caller_dir, name)) is not None:
             raise ProgramError(
