@@ -92,6 +92,11 @@ def _cycle(p: BlockParser, t) -> b.Item:
     raise AssertionError
 
 
+def _unsupported(p: BlockParser, t) -> b.Item:
+    p.fail("unsupported", f"{t.text}: {COMMANDS[t.text].effect}", t.col)
+    raise AssertionError
+
+
 def spindle_position(p: BlockParser, t) -> b.Word:
     """``SPOS[n]=value`` / ``SPOSA[n]=value`` (the ``[`` is next)."""
     p.pos += 1
@@ -115,6 +120,7 @@ _READERS: dict[str, Callable] = {
     "alarm": _alarm,
     "file": _procedure,
     "cycle": _cycle,
+    "unsupported": _unsupported,
 }
 
 
@@ -122,7 +128,7 @@ def is_command_start(p: BlockParser, name: str) -> bool:
     """Whether ``name`` here starts a command of the table (a program file of a cycle's name
     beside the program is called instead)."""
     c = COMMANDS.get(name)
-    if c is None:
+    if c is None or name in p.variables:
         return False
     if c.kind == "cycle" and name in p.g.programs:
         return False

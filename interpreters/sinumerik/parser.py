@@ -39,7 +39,7 @@ _LABEL = re.compile(r"^[A-Z_][A-Z_][A-Z0-9_]{0,30}$")
 _BLOCKNO = re.compile(r"^N(\d+)$")
 _SPINDLE_ADDR = re.compile(r"^([SM])(\d+)$")
 _H_ADDR = re.compile(r"^H(\d+)$")
-_JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
+_JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC", "GOTOS")
 #: statements that open or close a control structure (blocks.Block.shape)
 _SHAPES = frozenset({"IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "REPEAT", "UNTIL",
                      "LOOP", "ENDLOOP"})
@@ -284,6 +284,8 @@ class BlockParser:
             self.fail("syntax", f"expected GOTOF/GOTOB/GOTO/GOTOC, found {self.describe(t)}")
         self.pos += 1
         tgt = self.tok
+        if t.text == "GOTOS":                      # back to the program's first block
+            return b.Jump("GOTOS", "", None, t.col)
         if tgt.kind == IDENT:
             self.pos += 1
             m = _BLOCKNO.match(tgt.text)

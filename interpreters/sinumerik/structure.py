@@ -59,6 +59,8 @@ def ends_program(block: Block) -> str | None:
 
 def find_target(program: Program, at: int, jump: Jump) -> int | None:
     """Block index the jump lands on, searching as the control does; None when not found."""
+    if jump.how == "GOTOS":
+        return 0
     cands = (
         program.numbers.get(jump.number, [])
         if jump.number is not None

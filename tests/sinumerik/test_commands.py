@@ -129,3 +129,19 @@ def test_a_name_that_is_nothing_is_unknown_cycle_in_check_and_run(tmp_path):
     assert (f.kind, f.line, f.data["name"]) == ("unknown_cycle", 2, "PRINTLN")
     f = check(tmp_path, "SUBB(1)\nM30\n", SUB_DOT_SPF=SUB)[0]
     assert f.kind == "unknown_cycle" and "SUB?" in f.message
+
+
+def test_gotos_jumps_back_to_the_program_start(tmp_path):
+    r = ok(tmp_path, "R1=R1+1\nG0 X=R1\nIF R1<3 GOTOS\nM30\n")
+    assert [m.axes["X"] for m in moves(r)] == [1.0, 2.0, 3.0]
+
+
+@pytest.mark.parametrize("block", ["ID=1 WHENEVER $AA_IM[X]>10 DO $A_OUT[1]=1", "MEAS=1 G1 X10 F100"])
+def test_synchronised_actions_and_measuring_are_unsupported(tmp_path, block):
+    assert [(f.kind, f.line) for f in check(tmp_path, f"G0 X1\n{block}\nM30\n")] == [("unsupported", 2)]
+
+
+def test_speed_limit_and_axis_acceleration_modes_have_no_effect(tmp_path):
+    r = ok(tmp_path, "LIMS=3000 SPCON BRISKA(X) SOFTA(Y,Z)\nG0 X1\nM30\n")
+    seen = {f.data["command"] for f in r.findings if f.kind == "no_effect"}
+    assert seen == {"LIMS", "SPCON", "BRISKA", "SOFTA"}
