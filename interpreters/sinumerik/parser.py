@@ -450,6 +450,8 @@ class BlockParser:
             self.pos += 1
             if commands.is_command_start(self, name):
                 items.append(commands.read(self, t))
+            elif name.startswith("$") and (self.is_op("=") or self.is_op("[")):  # as when read
+                self.fail("unsupported", f"system variable {name} is not simulated", t.col)
             elif name in ("SPOS", "SPOSA") and self.is_op("["):     # SPOS[n]=...: spindle n
                 items.append(commands.spindle_position(self, t))
             elif self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R")):

@@ -161,3 +161,8 @@ def test_a_for_that_does_not_parse_stops_the_run_at_itself(tmp_path):
     r = run(tmp_path, "G0 X1\nFOR NN=0 TO 1\nG0 X2\nENDFOR\nM30\n")
     f = [x for x in r.findings if x.severity == "error"]
     assert not r.completed and [(x.kind, x.line) for x in f] == [("undefined_variable", 2)]
+
+
+@pytest.mark.parametrize("text", ["$P_NOSUCH=1\nM30\n", "$A_NOSUCH[1]=1\nM30\n", "R1=$P_NOSUCH\nM30\n"])
+def test_writing_and_reading_an_unsupported_variable_give_the_same_kind(tmp_path, text):
+    assert [f.kind for f in check(tmp_path, text)] == ["unsupported"]
