@@ -15,12 +15,14 @@ from vmach.findings import Finding
 
 @dataclass(frozen=True, slots=True)
 class Jump:
-    """``GOTOF``/``GOTOB``/``GOTO``/``GOTOC`` to a label, or to a block number (``number``)."""
+    """``GOTOF``/``GOTOB``/``GOTO``/``GOTOC`` to a label, or to a block number (``number``);
+    ``variable``: ``target`` names a STRING variable that holds the destination."""
 
     how: str
     target: str
     number: int | None
     col: int
+    variable: bool = False
 
 
 @dataclass(frozen=True, slots=True)

@@ -23,7 +23,7 @@ from interpreters.sinumerik.execute import Machine
 from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
 from interpreters.sinumerik.parser import parse_program
 from interpreters.sinumerik.sandbox import Sandbox
-from interpreters.sinumerik.structure import analyse, find_target
+from interpreters.sinumerik.structure import analyse, dynamic_target, find_target
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
 from vmach.errors import ProgramError
@@ -346,6 +346,19 @@ class Interpreter:
 
     def jump_target(self, program: b.Program, blk: b.Block, jump: b.Jump) -> Callable[[], int]:
         """A closure giving the landing index, or raising the control's alarm when missing."""
+        if jump.variable:                         # GOTOF DEST: DEST's value at run time
+            env, name, source = self.env, jump.target, SourceRef(program.path, blk.line, jump.col, blk.text)
+
+            def variable():
+                tgt = dynamic_target(program, blk, jump, env.vars[name])
+                if tgt is None:
+                    if jump.how == "GOTOC":
+                        return blk.index + 1
+                    raise ProgramError("undefined_label", f"{jump.how} {name}: no destination "
+                                       f"{env.vars[name]!r}", source)
+                return tgt
+
+            return variable
         tgt = find_target(program, blk.index, jump)
         if tgt is not None:
             return lambda: tgt

@@ -286,6 +286,9 @@ class BlockParser:
         tgt = self.tok
         if t.text == "GOTOS":                      # back to the program's first block
             return b.Jump("GOTOS", "", None, t.col)
+        if tgt.kind == IDENT and getattr(self.variables.get(tgt.text), "type", "") == "STRING":
+            self.pos += 1                         # GOTOF DEST: the label DEST holds, at run time
+            return b.Jump(t.text, tgt.text, None, tgt.col, variable=True)
         if tgt.kind == IDENT:
             self.pos += 1
             m = _BLOCKNO.match(tgt.text)

@@ -10,6 +10,8 @@
 
 from __future__ import annotations
 
+import re
+
 from interpreters.sinumerik.blocks import Block, Jump, Program, Word
 from vmach.findings import Finding, error, warning
 from vmach.source import SourceRef
@@ -61,6 +63,8 @@ def find_target(program: Program, at: int, jump: Jump) -> int | None:
     """Block index the jump lands on, searching as the control does; None when not found."""
     if jump.how == "GOTOS":
         return 0
+    if jump.variable:
+        return None                        # known at run time only (dynamic_target)
     cands = (
         program.numbers.get(jump.number, [])
         if jump.number is not None
@@ -201,7 +205,7 @@ def _jumps(program: Program) -> list[Finding]:
         )
         for j in jumps:
             tgt = find_target(program, blk.index, j)
-            if tgt is not None:
+            if tgt is not None or j.variable:
                 continue
             what = f"block number N{j.number}" if j.number is not None else f"label {j.target}"
             cands = (
@@ -244,6 +248,15 @@ def _jumps(program: Program) -> list[Finding]:
     return out
 
 
+def dynamic_target(program: Program, blk: Block, jump: Jump, value) -> int | None:
+    """Where ``jump`` to a STRING variable lands when the variable holds ``value`` (a label,
+    or a block number ``N100``/``100``); None when nowhere."""
+    text = str(value).strip().upper()
+    m = re.match(r"^N?(\d+)$", text)
+    fixed = Jump(jump.how, text, int(m.group(1)) if m else None, jump.col)
+    return find_target(program, blk.index, fixed)
+
+
 def successors(program: Program, i: int) -> list[int]:
     """Blocks control can pass to from block ``i`` (static, both outcomes of conditions)."""
     blocks = program.blocks
@@ -253,6 +266,8 @@ def successors(program: Program, i: int) -> list[int]:
     if k == "nc":
         if ends_program(blk):
             return []
+        if blk.jump is not None and blk.jump.variable:   # any label or block number, or on
+            return sorted({i for v in (*program.labels.values(), *program.numbers.values()) for i in v}) + nxt
         if blk.jump is not None:
             t = find_target(program, i, blk.jump)
             tg = [t] if t is not None else []

@@ -133,3 +133,26 @@ def test_without_frame_offset_incr_prog_only_the_distance_is_traversed(tmp_path)
     control = _WithData(axes=DEFAULT_CONTROL.axes, machine_data={"$SC_FRAME_OFFSET_INCR_PROG": 0})
     r = ok(tmp_path, "G0 X1\nTRANS X100\nX=IC(1)\nX=IC(2)\nM30\n", control)
     assert [m.axes["X"] for m in moves(r)] == [1.0, 2.0, 4.0]
+
+
+def test_a_jump_to_a_string_variable_lands_on_the_label_it_holds(tmp_path):
+    # the jump destination may be a STRING variable (Job planning, "Program jumps")
+    text = """DEF STRING[10] DEST
+DEF INT N
+N=N+1
+DEST="LA" << N
+GOTOF DEST
+LA1: G0 X1
+LA2: G0 X2
+IF N<2 GOTOB 3
+DEST="N90"
+GOTO DEST
+G0 X99
+N90 M30
+"""
+    text = text.replace("GOTOB 3", "GOTOB TOP").replace("N=N+1", "TOP: N=N+1")
+    r = ok(tmp_path, text)
+    assert [m.axes["X"] for m in moves(r)] == [1.0, 2.0, 2.0]
+    assert [f for f in check(tmp_path, text) if f.severity != "info"] == []
+    f = error_of(run(tmp_path, 'DEF STRING[10] DEST="NOWHERE"\nGOTOF DEST\nM30\n'))
+    assert (f.kind, f.line) == ("undefined_label", 2)
