@@ -21,7 +21,7 @@ T1 D1 M6
 G54 S1000 M3
 STOPRE
 G641 ADIS=0.05 ADISPOS=0.1
-FA[C]=1000 ACC[X]=50 JERKLIM[X]=80 VELOLIM[Y]=90
+FA[C]=1000 ACC[X]=50 JERKLIM[X]=80 VELOLIM[Y]=90 FGREF[C]=50
 G0 X10 Y0 Z10
 WAITP(C) WAITM(1,1,2)
 GET(Z)
@@ -49,7 +49,8 @@ def test_setup_commands_run_and_are_recorded_once_each(tmp_path):
     assert seen["STOPRE"] == (6, 2)
     assert seen["CYCLE832"] == (3, 1) and seen["ADIS"] == (7, 1) and seen["FA"] == (8, 1)
     assert seen["WAITM"] == (10, 1) and seen["GET"] == (11, 1) and seen["RELEASE"] == (12, 1)
-    for name in ("FNORM", "SOFT", "FFWON", "COMPCAD", "UPATH", "STOPFIFO", "G601", "DIAMCYCOF", "BRISK"):
+    for name in ("FNORM", "SOFT", "FFWON", "COMPCAD", "UPATH", "STOPFIFO", "G601", "DIAMCYCOF", "BRISK",
+                 "FGREF", "ACC", "JERKLIM", "VELOLIM", "WAITP", "STARTFIFO", "FLIN", "FCUB", "SPATH"):
         assert name in seen, name
     assert [(m.axes["X"], m.axes["Z"]) for m in moves(r)] == [(10.0, 10.0), (10.0, 0.0), (10.0, 0.0)]
     assert check(tmp_path, SETUP, S5) == []
