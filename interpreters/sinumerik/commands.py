@@ -218,6 +218,9 @@ def not_found(name: str, how: str, programs, control) -> tuple[str, str]:
     or program is ``unknown_cycle``, with the nearest known name."""
     if how:
         return "subprogram_not_found", f"{how} {name}: no {name}.SPF or {name}.MPF beside the program"
+    if re.match(r"^CYCLE\d+$", name):     # the control's cycle directories hold these
+        return "unsupported", (f"{name} is a cycle of the control (Siemens or the machine maker's) that "
+                               "vmach does not simulate and that is not beside the program")
     pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *COMMANDS})
     close = difflib.get_close_matches(name, pool, n=1, cutoff=0.75)
     hint = f"; did you mean {close[0]}?" if close else ""

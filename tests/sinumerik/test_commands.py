@@ -147,3 +147,13 @@ def test_speed_limit_and_axis_acceleration_modes_have_no_effect(tmp_path):
     r = ok(tmp_path, "LIMS=3000 SPCON BRISKA(X) SOFTA(Y,Z)\nG0 X1\nM30\n")
     seen = {f.data["command"] for f in r.findings if f.kind == "no_effect"}
     assert seen == {"LIMS", "SPCON", "BRISKA", "SOFTA"}
+
+
+def test_any_other_cycle_of_the_control_is_unsupported_naming_it(tmp_path):
+    # CYCLE4711 is no Siemens cycle vmach knows, but a CYCLEnnn lives in the control's cycle
+    # directories (the machine maker's): unsupported, never unknown_cycle or not found
+    text = "G0 X1\nCYCLE4711(1, 2)\nM30\n"
+    f = check(tmp_path, text, S5)
+    assert [(x.kind, x.line) for x in f] == [("unsupported", 2)] and "CYCLE4711" in f[0].message
+    e = error_of(run(tmp_path, text, S5))
+    assert (e.kind, e.line) == ("unsupported", 2)
