@@ -33,7 +33,7 @@ from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, compile_expr
 from interpreters.sinumerik.language import CODES, COMMANDS
-from interpreters.sinumerik.lexer import IDENT, NUM, OP
+from interpreters.sinumerik.lexer import IDENT, NUM, OP, STR
 from vmach.errors import ProgramError
 from vmach.findings import Finding, info
 from vmach.source import SourceRef
@@ -108,6 +108,47 @@ def spindle_position(p: BlockParser, t) -> b.Word:
     p.expect_op("=")
     mode, node = p.moded_value()
     return b.Word(t.col, f"{t.text}{n.value}", "spos", node, n.value, mode)
+
+
+def axis_address(p: BlockParser, t) -> b.Word:
+    """``AX[axis]=value``: the axis word written with the axis in brackets; an AXIS variable
+    there (an axis chosen at run time) is not simulated."""
+    p.pos += 1
+    at = p.tok
+    if at.kind == IDENT and p.g.is_axis(at.text) and p.is_op("]", 1):
+        p.pos += 2
+        p.expect_op("=")
+        mode, node = p.moded_value()
+        return b.Word(t.col, at.text, "axis", node, None, mode)
+    if at.kind == IDENT and at.text in p.variables:
+        p.fail("unsupported", f"AX[{at.text}]: an axis chosen at run time (an AXIS variable) is not "
+               "simulated", at.col)
+    p.fail("unknown_axis", f"AX[...] needs an axis of this machine, found {p.describe(at)}", at.col)
+    raise AssertionError
+
+
+def program_call(p: BlockParser, t) -> b.Call:
+    """``CALL "NAME"``, ``EXTCALL "NAME"``, ``PCALL NAME(args)`` or ``PCALL /_N_…_SPF(args)``
+    (the statement's token consumed)."""
+    how = t.text
+    if how != "PCALL":
+        if p.tok.kind != STR:
+            p.fail("syntax", f'{how} needs a program name in quotes: {how} "NAME"')
+        p.pos += 1
+        return b.Call(t.col, program_name(p.toks[p.pos - 1].value, how), how=how)
+    path = ""
+    while p.tok.kind == IDENT or p.is_op("/"):
+        path += p.tok.text
+        p.pos += 1
+    if not path:
+        p.fail("syntax", "PCALL needs a program name or path")
+    args = p.arguments() if p.is_op("(") else ()
+    return b.Call(t.col, program_name(path, how), args, how=how)
+
+
+def bracketed(p: BlockParser, t) -> b.Word:
+    """``AX[axis]=value`` or ``SPOS[n]=value`` / ``SPOSA[n]=value`` (the ``[`` is next)."""
+    return axis_address(p, t) if t.text == "AX" else spindle_position(p, t)
 
 
 _READERS: dict[str, Callable] = {
@@ -249,5 +290,5 @@ def _number(v, name: str):
     return v
 
 
-__all__ = ["Recorder", "code_step", "is_command_start", "not_found", "read", "run_positions",
-           "spindle_position", "step"]
+__all__ = ["Recorder", "bracketed", "code_step", "is_command_start", "not_found", "program_call", "read",
+           "run_positions", "step"]

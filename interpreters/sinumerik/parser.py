@@ -237,23 +237,9 @@ class BlockParser:
             block.kind = "nc"
             block.items.append(b.Keyword(t.col, "RET"))
             self.expect_end("RET")
-        elif name in ("CALL", "EXTCALL"):
+        elif name in ("CALL", "EXTCALL", "PCALL"):
             block.kind = "nc"
-            if self.tok.kind != STR:
-                self.fail("syntax", f'{name} needs a program name in quotes: {name} "NAME"')
-            block.items.append(b.Call(t.col, commands.program_name(self.tok.value, name), how=name))
-            self.pos += 1
-            self.expect_end(name)
-        elif name == "PCALL":                     # PCALL /_N_WKS_DIR/_N_SUB_SPF(1, 2) or PCALL SUB
-            block.kind = "nc"
-            path = ""
-            while self.tok.kind == IDENT or self.is_op("/"):
-                path += self.tok.text
-                self.pos += 1
-            if not path:
-                self.fail("syntax", "PCALL needs a program name or path")
-            args = self.call_with_args(Token(IDENT, "PCALL", t.col)).args if self.is_op("(") else ()
-            block.items.append(b.Call(t.col, commands.program_name(path, name), args, how=name))
+            block.items.append(commands.program_call(self, t))
             self.expect_end(name)
         elif name == "EXTERN":
             block.kind = "empty"  # declaration of a subprogram's signature: nothing to run
@@ -455,8 +441,8 @@ class BlockParser:
                 items.append(commands.read(self, t))
             elif name.startswith("$") and (self.is_op("=") or self.is_op("[")):  # as when read
                 self.fail("unsupported", f"system variable {name} is not simulated", t.col)
-            elif name in ("SPOS", "SPOSA") and self.is_op("["):     # SPOS[n]=...: spindle n
-                items.append(commands.spindle_position(self, t))
+            elif name in ("AX", "SPOS", "SPOSA") and self.is_op("["):   # AX[X]=, SPOS[n]=
+                items.append(commands.bracketed(self, t))
             elif self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R")):
                 item = self.assignment(t)
                 items.extend(item if isinstance(item, list) else (item,))

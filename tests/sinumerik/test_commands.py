@@ -157,3 +157,10 @@ def test_any_other_cycle_of_the_control_is_unsupported_naming_it(tmp_path):
     assert [(x.kind, x.line) for x in f] == [("unsupported", 2)] and "CYCLE4711" in f[0].message
     e = error_of(run(tmp_path, text, S5))
     assert (e.kind, e.line) == ("unsupported", 2)
+
+
+def test_ax_addresses_an_axis_by_name(tmp_path):
+    r = ok(tmp_path, "G0 AX[X]=5 AX[C]=ACP(90)\nM30\n", S5)
+    assert (moves(r)[-1].axes["X"], moves(r)[-1].axes["C"]) == (5.0, 90.0)
+    found = check(tmp_path, "DEF AXIS _A=X\nG0 AX[_A]=5\nAX[Q]=1\nM30\n", S5)
+    assert [(f.kind, f.line) for f in found] == [("unsupported", 2), ("unknown_axis", 3)]
