@@ -27,12 +27,16 @@ FORMATS: dict = {}
 
 
 def check(path: str | Path, control: ControlSpec = DEFAULT_CONTROL) -> list[Finding]:
-    """Static findings for the program at ``path`` (and nothing else): syntax, unknown words and
-    names, jumps, structure, block numbers, unreachable blocks, PROC position."""
+    """Static findings for the program at ``path`` (and the other programs of its file, when it
+    is an archive): syntax, unknown words and names, jumps, structure, block numbers,
+    unreachable blocks, PROC position."""
     p = Path(path)
     loaded = read_program(p, str(path), control)
-    findings = list(loaded.findings)
-    findings += _names(loaded.program, p.resolve().parent, control, frozenset(loaded.archive))
+    archived = frozenset(loaded.archive)
+    findings = list(loaded.findings) + _names(loaded.program, p.resolve().parent, control, archived)
+    for text in loaded.archive.values():
+        other = read_program(p, str(path), control, text)
+        findings += other.findings + _names(other.program, p.resolve().parent, control, archived)
     return sorted(findings, key=sort_key)
 
 

@@ -44,3 +44,9 @@ def test_a_program_saved_with_its_header_reads_as_without(tmp_path):
     r = ok(tmp_path, "%_N_PART_MPF\n;$PATH=/_N_MPF_DIR\nG0 X1\nM30\n")
     assert [(m.axes["X"], m.source.line) for m in moves(r)] == [(1.0, 3)]
     assert check(tmp_path, "%\nG0 X1\nM30\n") == []
+
+
+def test_check_reads_every_program_of_an_archive(tmp_path):
+    text = ARCHIVE.replace("G0 X=A\n", "G0 X=A Q5\nNOPE\n")
+    found = [(f.kind, f.line) for f in check(tmp_path, text, name="PART.ARC") if f.severity == "error"]
+    assert found == [("unknown_word", 9), ("unknown_cycle", 10)]
