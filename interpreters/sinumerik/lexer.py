@@ -137,9 +137,9 @@ def tokenize(text: str, source: SourceRef, is_name: Callable[[str], bool] | None
             out.append(Token(STR, tok[1:-1], col, tok[1:-1]))
         elif kind == "ident":
             up = tok.upper()
-            words = split_words(up, is_name)
-            if len(words) > 1:  # words without separators: all but the last are address words
-                for w in words[:-1]:
+            if len(up) > 2 and up[1] <= "9" and up[0] != "$" and not _ADDRESS_WORD.fullmatch(up):
+                words = split_words(up, is_name)  # words without separators: all but the last
+                for w in words[:-1]:              # are address words
                     out.append(Token(IDENT, w, col))
                     col += len(w)
                 up = words[-1]

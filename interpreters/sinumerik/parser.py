@@ -437,9 +437,9 @@ class BlockParser:
                 self.expect_end("the jump")
                 break
             self.pos += 1
-            if commands.is_command_start(self, name):
+            if name in COMMANDS and commands.is_command_start(self, name):
                 items.append(commands.read(self, t))
-            elif name.startswith("$") and (self.is_op("=") or self.is_op("[")):  # as when read
+            elif name[0] == "$" and (self.is_op("=") or self.is_op("[")):  # as when read
                 self.fail("unsupported", f"system variable {name} is not simulated", t.col)
             elif name in ("AX", "SPOS", "SPOSA") and self.is_op("["):   # AX[X]=, SPOS[n]=
                 items.append(commands.bracketed(self, t))
