@@ -25,7 +25,7 @@ from interpreters.sinumerik.structure import analyse, find_target
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
 from vmach.errors import ProgramError
-from vmach.files import decode_text, read_bytes
+from vmach.files import contained, decode_text, read_bytes
 from vmach.findings import Finding, warning
 from vmach.source import SourceRef
 
@@ -73,7 +73,7 @@ def _entry(directory: Path, name: str) -> Path | None:
         for entry in entries:
             if entry.upper() == name.upper() + suffix and entry.upper() in wanted:
                 p = directory / entry
-                if p.is_file():
+                if p.is_file() or p.is_symlink():  # a link is judged by where it leads
                     return p
     return None
 
@@ -81,14 +81,14 @@ def _entry(directory: Path, name: str) -> Path | None:
 def find_subprogram(directory: Path, name: str) -> Path | None:
     """``NAME.SPF`` or ``NAME.MPF`` in ``directory`` (case-insensitive), never elsewhere."""
     p = _entry(directory, name)
-    return p if p is not None and p.resolve().parent == directory.resolve() else None
+    return p if p is not None and contained(p, directory) and p.is_file() else None
 
 
 def linked_outside(directory: Path, name: str) -> Path | None:
     """The entry for ``name`` in ``directory`` when it is a link to a file outside it (which
     :func:`find_subprogram` refuses), else None."""
     p = _entry(directory, name)
-    return p if p is not None and p.resolve().parent != directory.resolve() else None
+    return p if p is not None and not contained(p, directory) else None
 
 
 class Interpreter:
@@ -249,7 +249,7 @@ class Interpreter:
         if path is None and (link := linked_outside(caller_dir, name)) is not None:
             raise ProgramError(
                 "subprogram_outside", f"{name}: {link.name} leads outside the program's directory "
-                f"(to {link.resolve()}); vmach reads subprograms only from {caller_dir}", src
+                f"(never read); vmach reads subprograms only from {caller_dir}", src
             )
         if path is None:
             raise ProgramError(
