@@ -63,66 +63,106 @@ def _xs(result) -> list[float]:
     return [c.axes.get("X") for c in result.commands if hasattr(c, "axes")]
 
 
+#: per dialect: (the subprogram file, the main program, its text calling that subprogram)
+DIALECTS = {
+    "rs274ngc": (rs274ngc, "evil.ngc", "main.ngc", "G0 X1\no<evil> call\nM2\n"),
+    "sinumerik": (sinumerik, "EVIL.SPF", "MAIN.MPF", "G0 X1\nEVIL\nM30\n"),
+}
+
+
 @pytest.mark.parametrize("layout", ["link_to_file", "relative_link", "chain", "through_dir_link",
                                     "link_to_dir", "dangling", "loop"])
-def test_rs274_subroutine_file_leading_outside_is_refused(tmp_path, layout):
-    job = _layouts(tmp_path, "evil.ngc")[layout]
-    prog = job / "main.ngc"
-    prog.write_text("G0 X1\no<evil> call\nM2\n")
-    result = rs274ngc.run(prog, options=OPTIONS)
+@pytest.mark.parametrize("dialect", sorted(DIALECTS))
+def test_a_subprogram_file_leading_outside_is_refused(tmp_path, dialect, layout):
+    module, sub, main_name, text = DIALECTS[dialect]
+    prog = _layouts(tmp_path, sub)[layout] / main_name
+    prog.write_text(text)
+    result = module.run(prog, options=OPTIONS)
     assert OUTSIDE_X not in _xs(result)
     assert not result.completed
     assert [(f.kind, f.line) for f in result.findings if f.is_error] == [("subprogram_outside", 2)]
-    assert [(f.kind, f.line) for f in rs274ngc.check(prog)] == [("subprogram_outside", 2)]
+    if layout != "link_to_dir":                    # (Sinumerik's check lists only files)
+        assert [(f.kind, f.line) for f in module.check(prog)] == [("subprogram_outside", 2)]
 
 
-@pytest.mark.parametrize("layout", ["link_to_file", "relative_link", "chain", "through_dir_link",
-                                    "dangling", "loop"])
-def test_sinumerik_subprogram_leading_outside_is_refused(tmp_path, layout):
-    job = _layouts(tmp_path, "EVIL.SPF")[layout]
-    prog = job / "MAIN.MPF"
-    prog.write_text("G0 X1\nEVIL\nM30\n")
-    result = sinumerik.run(prog, options=OPTIONS)
-    assert OUTSIDE_X not in _xs(result)
-    assert [(f.kind, f.line) for f in result.findings if f.is_error] == [("subprogram_outside", 2)]
-    assert [(f.kind, f.line) for f in sinumerik.check(prog)] == [("subprogram_outside", 2)]
-
-
-def test_sinumerik_subprogram_name_that_is_a_directory_outside_is_not_read(tmp_path):
-    job = _layouts(tmp_path, "EVIL.SPF")["link_to_dir"]
-    prog = job / "MAIN.MPF"
-    prog.write_text("G0 X1\nEVIL\nM30\n")
-    result = sinumerik.run(prog, options=OPTIONS)
-    assert OUTSIDE_X not in _xs(result)
-    assert [(f.kind, f.line) for f in result.findings if f.is_error] == [("subprogram_outside", 2)]
-
-
-@pytest.mark.parametrize("name", ["../elsewhere/evil", "/etc/passwd", "..", "a/../../evil"])
-def test_rs274_names_that_are_paths_are_refused(tmp_path, name):
-    _outside(tmp_path)
-    job = tmp_path / "job"
-    job.mkdir()
-    prog = job / "main.ngc"
-    prog.write_text(f"G0 X1\no<{name}> call\nM2\n")
-    result = rs274ngc.run(prog, options=OPTIONS)
-    assert OUTSIDE_X not in _xs(result)
-    assert [(f.kind, f.line) for f in result.findings if f.is_error] == [("subprogram_outside", 2)]
-    assert [(f.kind, f.line) for f in rs274ngc.check(prog)] == [("subprogram_outside", 2)]
-
-
-@pytest.mark.parametrize("name", ['"../elsewhere/EVIL"', '"/etc/passwd"', '"../EVIL"'])
-def test_sinumerik_names_that_are_paths_are_never_read(tmp_path, name):
+@pytest.mark.parametrize("dialect, call", [
+    ("rs274ngc", "o<../elsewhere/evil> call"), ("rs274ngc", "o</etc/passwd> call"),
+    ("rs274ngc", "o<..> call"), ("rs274ngc", "o<a/../../evil> call"),
+    ("sinumerik", 'CALL "../elsewhere/EVIL"'), ("sinumerik", 'CALL "/etc/passwd"'),
+    ("sinumerik", 'CALL "../EVIL"')])
+def test_names_that_are_paths_are_refused(tmp_path, dialect, call):
     out = _outside(tmp_path)
-    (tmp_path / "EVIL.SPF").write_text((out / "EVIL.SPF").read_text())
+    for f in out.iterdir():                        # ../EVIL.SPF and ../evil.ngc exist as well
+        (tmp_path / f.name).write_bytes(f.read_bytes())
+    module, _, main_name, text = DIALECTS[dialect]
     job = tmp_path / "job"
     job.mkdir()
-    prog = job / "MAIN.MPF"
-    prog.write_text(f"G0 X1\nCALL {name}\nM30\n")
-    result = sinumerik.run(prog, options=OPTIONS)
+    prog = job / main_name
+    prog.write_text(text.replace("o<evil> call", call).replace("EVIL", call))
+    result = module.run(prog, options=OPTIONS)
     assert OUTSIDE_X not in _xs(result)
     assert not result.completed
-    assert [f.line for f in result.findings if f.is_error] == [2]
-    assert [f.line for f in sinumerik.check(prog) if f.is_error] == [2]
+    assert [(f.kind, f.line) for f in result.findings if f.is_error] == [("subprogram_outside", 2)]
+    assert [(f.kind, f.line) for f in module.check(prog) if f.is_error] == [("subprogram_outside", 2)]
+
+
+def test_a_setup_file_that_is_a_link_leading_outside_is_refused(tmp_path, capsys):
+    out = _outside(tmp_path)
+    (out / "vmach.toml").write_text('machine = "turnmill"\n')
+    job = tmp_path / "job"
+    job.mkdir()
+    os.symlink(Path("..") / "elsewhere" / "vmach.toml", job / "vmach.toml")
+    prog = job / "P.MPF"
+    prog.write_text("G0 X1\nM30\n")
+    for command in ("check", "run"):
+        assert main([command, str(prog)]) == 2
+        assert f"{job / 'vmach.toml'}:1:1: error[setup]" in capsys.readouterr().err
+
+
+def _setup_naming(tmp_path: Path, key: str, target) -> tuple[Path, Path]:
+    """A job whose vmach.toml names ``target`` at ``key`` (line 2); (program, setup file)."""
+    job = tmp_path / "job"
+    job.mkdir(exist_ok=True)
+    setup = job / "vmach.toml"
+    setup.write_text(f'stock = "cylinder:d=30,l=60"\n{key} = "{target}"\n')
+    prog = job / "P.MPF"
+    prog.write_text("G0 X1\nM30\n")
+    return prog, setup
+
+
+@pytest.mark.parametrize("key", ["tools", "machine"])
+@pytest.mark.parametrize("target", ["dir", "fifo", "loop", "dangling", "devnull"])
+def test_setup_file_references_read_only_regular_files(tmp_path, capsys, key, target):
+    """Whatever a setup file names — by ``..``, an absolute name or a link — is read only when
+    it is a regular file: a directory, a pipe (which would block), a device, a link loop or a
+    dangling link is an error at the key's line, exit 2, and nothing is opened."""
+    out = _outside(tmp_path)
+    job = tmp_path / "job"
+    job.mkdir()
+    names = {"dir": "../elsewhere", "devnull": "/dev/null", "fifo": "../elsewhere/pipe.toml",
+             "loop": "loop.toml", "dangling": "gone.toml"}
+    os.mkfifo(out / "pipe.toml")
+    os.symlink("loop2.toml", job / "loop.toml")
+    os.symlink("loop.toml", job / "loop2.toml")
+    os.symlink(tmp_path / "nowhere.toml", job / "gone.toml")
+    prog, setup = _setup_naming(tmp_path, key, names[target])
+    assert main(["check", str(prog)]) == 2
+    err = capsys.readouterr().err
+    assert f"{setup}:2:1: error[" in err and "Traceback" not in err
+
+
+def test_setup_file_references_outside_are_configuration_and_are_read(tmp_path, capsys):
+    """A shared tool library or machine model beside the jobs (``../tools/…``, an absolute name
+    or a link to one) is the user's to name: it is read (README, the limits paragraph)."""
+    tools = Path(__file__).resolve().parents[1] / "fixtures" / "milling" / "tools.toml"
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    (shared / "tools.toml").write_bytes(tools.read_bytes())
+    for name in ("../shared/tools.toml", str(shared / "tools.toml")):
+        prog, _ = _setup_naming(tmp_path, "tools", name)
+        prog.write_text('T="EM10"\nD1\nG0 X1\nM30\n')
+        assert main(["run", str(prog)]) == 0
+        capsys.readouterr()
 
 
 def test_links_that_stay_inside_are_followed(tmp_path):

@@ -16,6 +16,7 @@ from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.flow import _SAFE_NAME
 from interpreters.rs274ngc.interp import Program, load_program
 from vmach.canon import ControlSpec
+from vmach.errors import ProgramError
 from vmach.files import leads_outside
 from vmach.findings import Finding, error, sort_key
 
@@ -28,6 +29,8 @@ def check_program(path: str, control: ControlSpec) -> list[Finding]:
         prog = load_program(path)
     except NgcError as exc:
         return [error(exc.kind, exc.message, None)]
+    except ProgramError as exc:                # beyond vmach's size limits
+        return [exc.finding]
     findings: list[Finding] = []
     known_axes = {a.name for a in control.axes}
 

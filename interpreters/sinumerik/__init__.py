@@ -12,7 +12,13 @@ import os
 from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik.interpreter import Interpreter, find_subprogram, linked_outside, read_program
+from interpreters.sinumerik.interpreter import (
+    Interpreter,
+    find_subprogram,
+    linked_outside,
+    names_a_path,
+    read_program,
+)
 from vmach.canon import DEFAULT_CONTROL, ControlSpec, RunOptions, RunResult
 from vmach.findings import Finding, error, sort_key
 from vmach.source import SourceRef
@@ -46,6 +52,11 @@ def _names(program: b.Program, directory: Path, control: ControlSpec) -> list[Fi
             if not isinstance(item, b.Call) or item.cycle:
                 continue
             if find_subprogram(directory, item.name) is not None:
+                continue
+            if names_a_path(item.name):
+                out.append(error("subprogram_outside", f"{item.name}: a path; vmach reads subprograms "
+                                 "only beside the program", SourceRef(program.path, blk.line, item.col,
+                                                                      blk.text), name=item.name))
                 continue
             link = linked_outside(directory, item.name)
             if link is not None:

@@ -25,7 +25,7 @@ from interpreters.sinumerik.structure import analyse, find_target
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
 from vmach.errors import ProgramError
-from vmach.files import contained, decode_text, read_bytes
+from vmach.files import contained, decode_text, read_program_bytes
 from vmach.findings import Finding, warning
 from vmach.source import SourceRef
 
@@ -54,7 +54,7 @@ class Level:
 
 
 def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
-    program = parse_program(decode_text(read_bytes(path, display)), display, control)
+    program = parse_program(decode_text(read_program_bytes(path, display)), display, control)
     findings = list(program.findings) + analyse(program)
     return Loaded(program, findings)
 
@@ -78,6 +78,12 @@ def _entry(directory: Path, name: str) -> Path | None:
     return None
 
 
+def names_a_path(name: str) -> bool:
+    """True for a subprogram name that is a path (``CALL "../X"``, ``"/etc/x"``): vmach reads
+    subprograms only beside the program, so such a name is refused as leading outside."""
+    return any(ch in name for ch in "/\\") or name.startswith("..")
+
+
 def find_subprogram(directory: Path, name: str) -> Path | None:
     """``NAME.SPF`` or ``NAME.MPF`` in ``directory`` (case-insensitive), never elsewhere."""
     p = _entry(directory, name)
@@ -98,7 +104,7 @@ class Interpreter:
         self.control = control
         self.options = options
         self.env = Env()
-        self.out: list[canon.Command] = []
+        self.out: list[canon.Command] = canon.CommandList()  # held to tol.max_commands
         self.findings: list[Finding] = []
         self.machine = Machine(control, self.out)
         self.machine.tool_radius_of = options.tool_radius
@@ -245,6 +251,9 @@ class Interpreter:
         caller_dir = (
             Path(self.stack[-1].loaded.program.path).resolve().parent if self.stack else self.directory
         )
+        if names_a_path(name):
+            raise ProgramError("subprogram_outside", f"{name}: a path; vmach reads subprograms only "
+                               f"from {caller_dir}", src)
         path = find_subprogram(caller_dir, name)
         if path is None and (link := linked_outside(caller_dir, name)) is not None:
             raise ProgramError(
