@@ -187,7 +187,7 @@ def test_a_directory_given_as_the_program_is_named_a_directory(tmp_path, capsys,
     (tmp_path / "D.MPF").mkdir()
     assert main([command, str(tmp_path / "D.MPF")]) == 2
     err = capsys.readouterr().err
-    assert "error[unreadable]" in err and "directory" in err
+    assert "error[unreadable]" in err and "is a directory" in err and "no such file" not in err
 
 
 @pytest.mark.parametrize("machine", ["/dev/null", "empty"])
