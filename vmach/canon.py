@@ -29,7 +29,9 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
+from vmach.errors import ProgramError
 from vmach.source import SourceRef
+from vmach.tol import tol
 
 # --------------------------------------------------------------------------------------------
 # What the machine tells an interpreter (canon.hh's query functions, as data)
@@ -460,10 +462,31 @@ class RunOptions:
         when no tool library was given.
     """
 
-    max_blocks: int = 10_000_000
+    max_blocks: int = tol.max_blocks
     max_call_depth: int = 16
     tool_radius: Callable[[str, int], float | None] | None = None
     tool_data: Callable[[str, int], Mapping[str, float] | None] | None = None
+
+
+class CommandList(list):
+    """The canonical commands of one run, held to ``limit`` (``tol.max_commands``; each costs
+    about 0.35 kB): one more is a ``resource_limit`` ProgramError at its own place, so that a
+    loop that moves (``G81 ... L1000000000``) stops long before it fills the memory."""
+
+    def __init__(self, limit: int | None = None):
+        super().__init__()
+        self.limit = tol.max_commands if limit is None else limit
+
+    def append(self, cmd: Command) -> None:
+        if len(self) >= self.limit:
+            raise ProgramError("resource_limit", f"the program makes more than {self.limit:,} "
+                               "canonical commands (vmach's limit, vmach/tol.py max_commands; "
+                               "verify the program in parts)", cmd.source, limit=self.limit)
+        super().append(cmd)
+
+    def extend(self, cmds) -> None:
+        for c in cmds:
+            self.append(c)
 
 
 @dataclass(slots=True)

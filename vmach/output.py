@@ -18,8 +18,14 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO]:
     """Write to a temporary file beside ``path`` and rename it into place on success only.
 
     The file gets the mode of the one it replaces, or a new file's (0666 less the umask) —
-    not the temporary file's 0600."""
-    target = writable_file(path)
+    not the temporary file's 0600. Only a regular file (or a new name) is replaced: a link is
+    written through (its target is replaced, the link stays), and a device or a pipe
+    (``-o /dev/null``, a FIFO) is written to in place — never replaced by a regular file."""
+    target = Path(os.path.realpath(writable_file(path)))
+    if _special(target):
+        with _written_through(path, target, mode) as fh:
+            yield fh
+        return
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
     except OSError as exc:
@@ -41,6 +47,28 @@ def atomic_writer(path: str | Path, mode: str = "w") -> Iterator[IO]:
         except OSError:
             pass
         raise
+
+
+def _special(target: Path) -> bool:
+    """True when ``target`` exists and is not a regular file (a device, a FIFO, a socket)."""
+    try:
+        return not stat.S_ISREG(os.stat(target).st_mode)
+    except OSError:                                # a new name (or a link loop: os.replace says)
+        return False
+
+
+@contextmanager
+def _written_through(path, target: Path, mode: str) -> Iterator[IO]:
+    """``target`` opened for writing as it is (no temporary file, no rename)."""
+    try:
+        fh = open(target, mode, encoding=None if "b" in mode else "utf-8")  # noqa: SIM115
+    except OSError as exc:
+        raise _unwritable(path, exc) from None
+    try:
+        with fh:                                   # closing flushes: a full disk shows there too
+            yield fh
+    except OSError as exc:
+        raise _unwritable(path, exc) from None
 
 
 def _mode_for(target: Path) -> int:

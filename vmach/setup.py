@@ -31,6 +31,8 @@ from typing import Any
 from vmach.bundled import MODELS_DIR  # the bundled models (checkout or wheel)
 from vmach.canon import DEFAULT_CONTROL, ControlSpec
 from vmach.errors import InputError, ModelError
+from vmach.files import file_problem, leads_outside
+from vmach.source import SourceRef
 
 SETUP_NAME = "vmach.toml"
 
@@ -49,7 +51,8 @@ class Setup:
     zero_offsets: dict[str, dict[str, float]] = field(default_factory=dict)
     parameters: dict[str, float | tuple[float, ...]] = field(default_factory=dict)  # the model's set-up
     source: Path | None = None  # the vmach.toml read, if any
-    places: dict[str, Any] = field(default_factory=dict)  # text setting -> its SourceRef in the file
+    #: where each text setting was read (key -> its line in the vmach.toml), for findings about it
+    places: dict[str, SourceRef] = field(default_factory=dict)
 
 
 def resolve_model(spec: str | Path, base: Path | None = None) -> Path:
@@ -61,7 +64,7 @@ def resolve_model(spec: str | Path, base: Path | None = None) -> Path:
     elif len(p.parts) == 1:
         candidates.append(MODELS_DIR / p.name)
     for c in candidates:
-        if c.is_file():
+        if file_problem(c) is None:                # a regular file (not a dir, device, loop)
             return c
     known = ", ".join(sorted(x.stem for x in MODELS_DIR.glob("*.toml")))
     raise InputError(f"machine model {spec!s} not found (a path, or one of: {known})", kind="unreadable")
@@ -107,7 +110,11 @@ def read_setup(program: str | Path) -> Setup:
     from vmach.machine.control import parse_toml, read_text
     from vmach.machine.tomlpos import KeyLines
 
-    path = Path(program).resolve().parent / SETUP_NAME
+    directory = Path(program).resolve().parent
+    path = directory / SETUP_NAME
+    if leads_outside(path, directory):             # never read from outside the program's directory
+        raise InputError(f"{path}: a link leading outside the program's directory (never read)",
+                         kind="setup", source=SourceRef(str(path), 1))
     if not path.is_file():
         return Setup()
     text = read_text(path)
@@ -163,6 +170,8 @@ def read_setup(program: str | Path) -> Setup:
     except InputError as exc:
         raise InputError(f"{SETUP_NAME}: {exc.message}", kind=exc.kind,
                          source=places.find(where["machine"])) from None
+    if tools and (problem := file_problem(base / tools)) is not None:
+        raise bad(where["tools"], f"= {tools!r}: {problem}")
     return Setup(
         machine=model,
         tools=(base / tools) if tools else None,

@@ -29,6 +29,9 @@ class Tolerances:
     #: round blank's polygon and the trim slabs' 1 mm bins grow with size, so a mistyped
     #: ``d=60e6`` must be an error, not an attempt to allocate petabytes).
     max_size: float = 10_000.0
+    #: Smallest stock or tool dimension accepted, mm (1 nm: far below any blank or cutter, and
+    #: far above the sizes whose polygons divide by zero — ``d=1e-300`` must be an error).
+    min_size: float = 1e-6
     #: Largest magnitude of any number read from a model or CL file, and of an arc's radius
     #: (mm, degrees, mm/min): far beyond any machine, small enough that squares and products
     #: stay finite.
@@ -48,8 +51,24 @@ class Tolerances:
     #: cylinder's side strips, cut along its length, merge) when every triangle of the mesh lies
     #: within this of a face plane of the hull, mm (:func:`vmach.stock.hull.as_hull`).
     blank_hull: float = 1e-4
-    #: Default block limit for interpreters (infinite-loop guard).
-    max_blocks: int = 10_000_000
+    #: Largest NC program (or CL file) vmach reads, bytes, and longest line in it, characters
+    #: (checked before parsing): far above real programs (a control's block is at most a few
+    #: hundred characters; LinuxCNC's 256), small enough to be refused at once — a 200 MB
+    #: program took 10 minutes and 1.7 GB, a 1 MB line 400 MB (benchmarks/limits.py).
+    max_program_bytes: int = 32 * 1024 * 1024
+    max_line_length: int = 10_000
+    #: Largest machine model, tool library or setup file, bytes (real ones are a few kB).
+    max_config_bytes: int = 1024 * 1024
+    #: Default block limit for interpreters (infinite-loop guard): 3,000,000 blocks bite in
+    #: about 3.5 CPU-s in the slowest loop (an RS274 ``while``; benchmarks/limits.py); the
+    #: busiest real program of the corpus runs 1.2 million. ``--max-blocks`` may raise it up to
+    #: ``max_blocks_ceiling``, beyond which a value is a usage error.
+    max_blocks: int = 3_000_000
+    max_blocks_ceiling: int = 100_000_000
+    #: Most canonical commands one run makes (about 0.35 kB each: ~360 MB for ``vmach run``): a
+    #: loop that moves stops here before it exhausts the memory; the busiest real program of the
+    #: corpus makes 152,614. (``verify`` holds 0.7 kB more a move in its move table.)
+    max_commands: int = 1_000_000
     #: Default subprogram call depth limit (Sinumerik allows 16 levels incl. main program).
     max_call_depth: int = 16
     #: Stock removal (docs/stock.md): largest rotation of the tool between two sampled poses

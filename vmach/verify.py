@@ -22,10 +22,11 @@ from vmach import __version__, coverage
 from vmach.canon import RunOptions, RunResult
 from vmach.checks.process import spindle_off_cuts, unknown_tools, zero_feeds
 from vmach.errors import InputError
+from vmach.files import input_file
 from vmach.findings import Finding, sort_key
 from vmach.motion import MoveTable, build
 from vmach.setup import Setup, read_setup, resolve_model, setting, with_offsets
-from vmach.tol import ACCURACY
+from vmach.tol import ACCURACY, tol
 
 
 @dataclass
@@ -41,7 +42,7 @@ class VerifyOptions:
     fit: str = "g6"
     out: Path | None = None
     images: bool = True
-    max_blocks: int = 10_000_000
+    max_blocks: int = tol.max_blocks
     quiet: bool = True
     export: tuple[str, ...] = ()
     clearance: float = 1.0  # near-miss distance for rapids, mm
@@ -204,8 +205,7 @@ def _collisions(report: Report, clock, model, table, library, options: VerifyOpt
 def verify(program: str | Path, options: VerifyOptions) -> Report:
     """Run every stage on ``program``; return the Report (findings, profile, timings ...)."""
     path = Path(program)
-    if not path.is_file():
-        raise InputError(f"{program}: no such file", kind="unreadable")
+    input_file(path, str(program))  # a directory, a device or a pipe is named as such
     setup = read_setup(path)
     report = Report(str(program), setup)
     clock = _Clock(report, options.progress)
@@ -417,9 +417,14 @@ def _profile(report: Report, stock, spec: str, plan, options: VerifyOptions) -> 
     lo, hi = res.tolerance
     worst = max((s for s in res.stations if s.found), key=lambda s: max(s.max - hi, lo - s.min), default=None)
     missing = [s.z for s in res.stations if not s.found]
-    if worst is None:
-        msg = f"no material around the axis at z = {missing}: the {spec} profile is not there"
-        data = {"missing_z": missing}
+    if worst is None:                              # e.g. a --profile-z range beside the part
+        z_range = options.profile_z or report.setup.profile_z
+        given = f"--profile-z {z_range}" if options.profile_z else f"profile_z = {z_range!r}"
+        msg = (f"no material around the axis at z = {missing} ({given}): the {spec} profile is "
+               "not there")
+        place = None if options.profile_z else report.setup.places.get("profile_z")
+        return [Finding("profile_out_of_tolerance", "error", msg, place, None,
+                        {"missing_z": missing, "z_range": z_range})]
     else:
         msg = (
             f"{spec} profile out of tolerance ({options.fit}: {lo * 1000:+.1f}…{hi * 1000:+.1f} µm on the "

@@ -22,6 +22,7 @@ from interpreters.rs274ngc.interp import Interpreter
 from interpreters.rs274ngc.output import Output
 from interpreters.rs274ngc.state import OpenToolTable, default_tool_table, read_tool_table
 from vmach.canon import DEFAULT_CONTROL, ControlSpec, RunOptions, RunResult
+from vmach.errors import ProgramError
 from vmach.findings import Finding, error
 from vmach.source import SourceRef
 
@@ -54,7 +55,10 @@ def _interpret(path, control, options, extra, trace: bool, commands: bool):
                          block_delete=bool(extra.get("block_delete", False)))
     if not control.strict_axes:
         out.extra_axes = {"A", "B", "C"}
-    completed, finding = interp.run()
+    try:
+        completed, finding = interp.run()
+    except ProgramError as exc:                # a file beyond vmach's size limits
+        completed, finding = False, exc.finding
     findings: list[Finding] = [] if finding is None else [finding]
     return out, RunResult(out.commands, findings, completed, interp.blocks)
 

@@ -16,6 +16,8 @@ from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.flow import _SAFE_NAME
 from interpreters.rs274ngc.interp import Program, load_program
 from vmach.canon import ControlSpec
+from vmach.errors import ProgramError
+from vmach.files import leads_outside
 from vmach.findings import Finding, error, sort_key
 
 _OPENERS = {"if": ("endif",), "while": ("endwhile",), "repeat": ("endrepeat",),
@@ -27,6 +29,8 @@ def check_program(path: str, control: ControlSpec) -> list[Finding]:
         prog = load_program(path)
     except NgcError as exc:
         return [error(exc.kind, exc.message, None)]
+    except ProgramError as exc:                # beyond vmach's size limits
+        return [exc.finding]
     findings: list[Finding] = []
     known_axes = {a.name for a in control.axes}
 
@@ -137,8 +141,12 @@ def _check_structure(prog: Program, directory: Path) -> list[Finding]:
     for name, i, col in calls:
         if name in defined:
             continue
-        if (_SAFE_NAME.fullmatch(name) and ".." not in name
-                and (directory / f"{name}.ngc").is_file()):
+        safe = _SAFE_NAME.fullmatch(name) and ".." not in name
+        if not safe or leads_outside(directory / f"{name}.ngc", directory):
+            findings.append(error("subprogram_outside", NgcError("subprogram_outside", name=name).message,
+                                  prog.ref(i, col)))
+            continue
+        if (directory / f"{name}.ngc").is_file():
             continue
         findings.append(error(
             "undefined_sub",

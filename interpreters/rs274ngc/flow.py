@@ -31,6 +31,7 @@ from pathlib import Path
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.expr import evaluate
 from interpreters.rs274ngc.lexer import n_label
+from vmach.files import leads_outside
 
 _SAFE_NAME = re.compile(r"[a-z0-9_][a-z0-9_.\-]*")
 #: LinuxCNC runs the main program and at most 9 nested calls (INTERP_SUB_ROUTINE_LEVELS)
@@ -241,8 +242,10 @@ class FlowMixin:
         if known is not None:
             return known
         if not _SAFE_NAME.fullmatch(name) or ".." in name:
-            raise NgcError("sub_outside_program", o.col, name=name)
+            raise NgcError("subprogram_outside", o.col, name=name)
         path = self.directory / f"{name}.ngc"
+        if leads_outside(path, self.directory):  # a link out of the directory: never opened
+            raise NgcError("subprogram_outside", o.col, name=name)
         if path.is_file():
             key = str(path)
             prog = self.programs.get(key)

@@ -26,6 +26,8 @@ from interpreters.rs274ngc.offsets import OffsetMixin
 from interpreters.rs274ngc.output import Output
 from interpreters.rs274ngc.state import Params, Settings, ToolTable
 from vmach.canon import ControlSpec, RunOptions
+from vmach.errors import InputError
+from vmach.files import read_program_bytes
 from vmach.findings import Finding, error
 from vmach.source import SourceRef
 
@@ -80,9 +82,9 @@ class Program:
 
 def load_program(path: str) -> Program:
     try:
-        data = Path(path).read_bytes()
-    except OSError as exc:
-        raise NgcError("unreadable", path=path, reason=exc.strerror or str(exc)) from None
+        data = read_program_bytes(path)        # held to vmach's size limits (ProgramError)
+    except InputError as exc:
+        raise NgcError("unreadable", path=path, reason=exc.message.removeprefix(f"{path}: ")) from None
     return Program(path, data.decode("utf-8", errors="replace"))
 
 

@@ -113,7 +113,7 @@ class Output:
         self.trace = trace
         self.want = commands
         self.lines: list[str] = []
-        self.commands: list[vc.Command] = []
+        self.commands: list[vc.Command] = vc.CommandList()  # held to tol.max_commands
         self.count = 0
         self.nlabel = "N..... "
         self.src = SourceRef("<init>", 1)

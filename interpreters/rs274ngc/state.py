@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from interpreters.rs274ngc.diag import NgcError
+from vmach.errors import InputError
+from vmach.files import read_bytes
 
 MM_PER_INCH = 25.4
 NUM_PARAMETERS = 5602  # #1 .. #5601
@@ -109,10 +111,10 @@ def read_tool_table(path: str | Path, notes: list[str] | None = None) -> ToolTab
     is skipped with the note rs274 prints (appended to ``notes``), a line without P keeps its
     place in the table but cannot be found by its tool number.
     """
-    try:
-        text = Path(path).read_text(encoding="utf-8", errors="replace")
-    except OSError as exc:
-        raise NgcError("unreadable", path=str(path), reason=exc.strerror or str(exc)) from None
+    try:                                           # at most 1 MiB: /dev/zero must not hang
+        text = read_bytes(path).decode("utf-8", errors="replace")
+    except InputError as exc:
+        raise NgcError("unreadable", path=str(path), reason=exc.message.removeprefix(f"{path}: ")) from None
     tools: list[Tool] = []
     for raw in text.splitlines(keepends=True):
         body = raw.split(";", 1)[0]

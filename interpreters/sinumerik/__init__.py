@@ -16,6 +16,7 @@ from interpreters.sinumerik.interpreter import (
     Interpreter,
     find_subprogram,
     linked_outside,
+    names_a_path,
     program_names,
     read_program,
 )
@@ -54,6 +55,11 @@ def _names(
             if not isinstance(item, b.Call) or item.cycle:
                 continue
             if item.name in archived or find_subprogram(directory, item.name) is not None:
+                continue
+            if names_a_path(item.name):
+                out.append(error("subprogram_outside", f"{item.name}: a path; vmach reads subprograms "
+                                 "only beside the program", SourceRef(program.path, blk.line, item.col,
+                                                                      blk.text), name=item.name))
                 continue
             link = linked_outside(directory, item.name)
             if link is not None:

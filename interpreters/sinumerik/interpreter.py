@@ -28,7 +28,7 @@ from interpreters.sinumerik.structure import analyse, dynamic_target, find_targe
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
 from vmach.errors import ProgramError
-from vmach.files import decode_text, read_bytes
+from vmach.files import contained, decode_text, read_program_bytes
 from vmach.findings import Finding, warning
 from vmach.source import SourceRef
 
@@ -62,7 +62,7 @@ def read_program(path: Path, display: str, control: ControlSpec, text: str | Non
     """The program in ``path`` (or ``text``, a section of it), parsed and analysed, with the global
     user data of its directory's definition files known."""
     gud = definitions.load(path, display, control)
-    text = decode_text(read_bytes(path, display)) if text is None else text
+    text = decode_text(read_program_bytes(path, display)) if text is None else text
     main, others, notes = archive.split(text, display)
     program = parse_program(main, display, control, program_names(path.resolve().parent) | frozenset(others),
                             known=gud.variables)
@@ -84,7 +84,7 @@ def _entry(directory: Path, name: str) -> Path | None:
         for entry in entries:
             if entry.upper() == name.upper() + suffix and entry.upper() in wanted:
                 p = directory / entry
-                if p.is_file():
+                if p.is_file() or p.is_symlink():  # a link is judged by where it leads
                     return p
     return None
 
@@ -96,19 +96,23 @@ def program_names(directory: Path) -> frozenset[str]:
     except OSError:
         return frozenset()
     return frozenset(e[:-4].upper() for e in entries if e[-4:].upper() in PROGRAM_SUFFIXES)
+def names_a_path(name: str) -> bool:
+    """True for a subprogram name that is a path (``CALL "../X"``, ``"/etc/x"``): vmach reads
+    subprograms only beside the program, so such a name is refused as leading outside."""
+    return any(ch in name for ch in "/\\") or name.startswith("..")
 
 
 def find_subprogram(directory: Path, name: str) -> Path | None:
     """``NAME.SPF`` or ``NAME.MPF`` in ``directory`` (case-insensitive), never elsewhere."""
     p = _entry(directory, name)
-    return p if p is not None and p.resolve().parent == directory.resolve() else None
+    return p if p is not None and contained(p, directory) and p.is_file() else None
 
 
 def linked_outside(directory: Path, name: str) -> Path | None:
     """The entry for ``name`` in ``directory`` when it is a link to a file outside it (which
     :func:`find_subprogram` refuses), else None."""
     p = _entry(directory, name)
-    return p if p is not None and p.resolve().parent != directory.resolve() else None
+    return p if p is not None and not contained(p, directory) else None
 
 
 class Interpreter:
@@ -118,7 +122,7 @@ class Interpreter:
         self.control = control
         self.options = options
         self.env = Env()
-        self.out: list[canon.Command] = []
+        self.out: list[canon.Command] = canon.CommandList()  # held to tol.max_commands
         self.findings: list[Finding] = []
         self.machine = Machine(control, self.out)
         self.machine.tool_radius_of = options.tool_radius
@@ -310,11 +314,14 @@ class Interpreter:
                 self.loaded[key] = read_program(path, display, self.control, text)
             self.push(self.loaded[key], src, args, repeat)
             return
+        if names_a_path(name):
+            raise ProgramError("subprogram_outside", f"{name}: a path; vmach reads subprograms only "
+                               f"from {caller_dir}", src)
         path = find_subprogram(caller_dir, name)
         if path is None and (link := linked_outside(caller_dir, name)) is not None:
             raise ProgramError(
                 "subprogram_outside", f"{name}: {link.name} leads outside the program's directory "
-                f"(to {link.resolve()}); vmach reads subprograms only from {caller_dir}", src
+                f"(never read); vmach reads subprograms only from {caller_dir}", src
             )
         if path is None:
             kind, message = not_found(name, how, program_names(caller_dir), self.control)

@@ -113,12 +113,14 @@ def test_call_pcall_extcall_run_the_program_beside_the_caller(tmp_path, call):
 
 
 def test_a_named_file_that_is_missing_is_subprogram_not_found(tmp_path):
-    for call in ('CALL "NOPE"', "PCALL NOPE", 'EXTCALL "NOPE"', 'CALL "../SUB"'):
+    for call, kind in (('CALL "NOPE"', "subprogram_not_found"), ("PCALL NOPE", "subprogram_not_found"),
+                       ('EXTCALL "NOPE"', "subprogram_not_found"),
+                       ('CALL "../SUB"', "subprogram_outside")):    # a path out is refused (issue 30)
         text = f"G0 X1\n{call}\nM30\n"
         found = check(tmp_path, text, SUB_DOT_SPF=SUB)
-        assert [(f.kind, f.line) for f in found] == [("subprogram_not_found", 2)]
+        assert [(f.kind, f.line) for f in found] == [(kind, 2)]
         f = error_of(run(tmp_path, text))
-        assert (f.kind, f.line) == ("subprogram_not_found", 2)
+        assert (f.kind, f.line) == (kind, 2)
 
 
 def test_a_name_that_is_nothing_is_unknown_cycle_in_check_and_run(tmp_path):

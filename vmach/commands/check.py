@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 import interpreters
-from vmach.errors import InputError
+from vmach.files import input_file
 from vmach.setup import control_for
 
 HELP = "check a program without running it: syntax, unknown words, jumps, structure"
@@ -23,8 +23,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     path = Path(args.program)
-    if not path.is_file():
-        raise InputError(f"{args.program}: no such file", kind="unreadable")
+    input_file(path, str(args.program))  # a directory, a device or a pipe is named as such
     control, _ = control_for(path, args.machine, machine_data=False)   # static checks only
     dialect = interpreters.dialect_for(path, args.dialect, control.dialect)
     findings = dialect.check(args.program, control)

@@ -20,6 +20,7 @@ import interpreters
 from vmach.canon import RunOptions
 from vmach.commands.fk import numbers, open_model
 from vmach.errors import InputError
+from vmach.files import input_file
 from vmach.machine.cl import read_cl
 from vmach.machine.postcheck import (
     TOL_ANGLE,
@@ -101,8 +102,7 @@ def run(args: argparse.Namespace) -> int:
     if tol_p <= 0 or tol_a <= 0:
         raise InputError("tolerances must be > 0")
     program = Path(args.program)
-    if not program.is_file():
-        raise InputError(f"{args.program}: no such file", kind="unreadable")
+    input_file(program, str(args.program))  # a directory, a device or a pipe is named as such
     model, setup_note = _set_up_model(args, program)
     cl = read_cl(args.cl)
     dialect = interpreters.dialect_for(program, args.dialect, model.control.dialect)

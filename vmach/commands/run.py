@@ -10,6 +10,7 @@ from pathlib import Path
 import interpreters
 from vmach.canon import MOTIONS, RunOptions, RunResult, format_json, format_text
 from vmach.errors import InputError
+from vmach.files import input_file
 from vmach.output import atomic_writer
 from vmach.setup import control_for
 from vmach.tol import tol
@@ -40,10 +41,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     path = Path(args.program)
-    if not path.is_file():
-        raise InputError(f"{args.program}: no such file", kind="unreadable")
-    if args.max_blocks < 1:
-        raise InputError("--max-blocks must be at least 1", kind="usage")
+    input_file(path, str(args.program))  # a directory, a device or a pipe is named as such
+    if not 1 <= args.max_blocks <= tol.max_blocks_ceiling:   # a huge value must not switch it off
+        raise InputError(f"--max-blocks must be 1 to {tol.max_blocks_ceiling:,}", kind="usage")
     control, model_path = control_for(path, args.machine)
     dialect = interpreters.dialect_for(path, args.dialect, control.dialect)
     library = _library(path, args.tools)

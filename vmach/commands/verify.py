@@ -68,8 +68,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.max_blocks < 1:
-        raise InputError("--max-blocks must be at least 1", kind="usage")
+    if not 1 <= args.max_blocks <= tol.max_blocks_ceiling:   # a huge value must not switch it off
+        raise InputError(f"--max-blocks must be 1 to {tol.max_blocks_ceiling:,}", kind="usage")
     if not args.clearance >= 0:
         raise InputError("--clearance must be a distance >= 0 mm", kind="usage")
     out = writable_dir(args.out if args.out else Path("out") / Path(args.program).stem)
@@ -158,19 +158,29 @@ def summary(report, out: Path) -> str:
     if d["simulation"]:
         m = d["simulation"]
         b = m["error_bounds_mm"]
-        sides = max(b["fan_overcut"], b["tool_polygon"], b["side_cusps"])
+        known = [v for v in (b.get("fan_overcut"), b.get("tool_polygon"), b.get("side_cusps"))
+                 if v is not None]
         lines.append(
             f"stock ({m['accuracy']} accuracy{', partial' if partial else ''}): "
             f"{m['cutters']} cutters ({m['fan_cutters']} fans); "
             "simulation error within "
-            f"{b['face_scallop']:.4f} mm on flat faces, {sides:g} mm on sides "
+            f"{_figure(b.get('face_scallop'), '.4f')} on flat faces, "
+            f"{_figure(max(known, default=None), 'g')} on sides "
             "(report.json: simulation.error_bounds_mm)"
         )
     if d["profile"]:
         p = d["profile"]
+        dev = p.get("max_abs_deviation_mm")            # None where no station found the part
         lines.append(
-            f"profile {p['type']} d1={p['d1']}: max |deviation| {p['max_abs_deviation_mm']:.4f} mm, "
+            f"profile {p['type']} d1={p['d1']}: max |deviation| "
+            f"{_figure(dev, '.4f')}, "
             f"band {p['tolerance_mm']}: {'PASS' if p['pass'] else 'FAIL'}"
         )
     lines.append(f"report: {out / 'report.json'} ({out / 'report.html'})")
     return "\n".join(lines)
+
+
+def _figure(value, spec: str) -> str:
+    """A length of the summary in mm, or ``n/a`` where the report has none (never a crash on
+    None)."""
+    return "n/a" if value is None else f"{format(value, spec)} mm"

@@ -164,4 +164,4 @@ def parse_cl(text: str, path: str = "<cl>") -> ClData:
 
 def read_cl(path: str | Path) -> ClData:
     """Read a CL file (UTF-8 or Latin-1 text)."""
-    return parse_cl(decode_text(read_bytes(path)), str(path))
+    return parse_cl(decode_text(read_bytes(path, limit=tol.max_program_bytes)), str(path))

@@ -35,7 +35,7 @@ from typing import Any
 import interpreters
 from vmach.canon import AxisSpec, ControlSpec
 from vmach.errors import ModelError
-from vmach.files import read_bytes
+from vmach.files import input_file, read_bytes
 from vmach.findings import Finding, error
 from vmach.machine.formula import FormulaError, formula_axes
 from vmach.machine.tomlpos import KeyLines
@@ -46,8 +46,9 @@ Locate = Callable[[tuple], SourceRef]
 
 
 def read_text(path: str | Path) -> str:
-    """The model file's text; unreadable or non-UTF-8 files become errors (exit 2)."""
-    data = read_bytes(path)
+    """The model file's text; unreadable or non-UTF-8 files become errors (exit 2), as does a
+    name that is not a regular file (a device, a pipe: ``--tools /dev/null``)."""
+    data = read_bytes(input_file(path))
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError:
@@ -219,7 +220,7 @@ def collect_control(
                     row[str(a)] = fv
             offsets[str(k).upper()] = row
     dialect = ctl.get("dialect")
-    if dialect is not None and dialect not in interpreters.NAMES:
+    if dialect is not None and (not isinstance(dialect, str) or dialect not in interpreters.NAMES):
         bad(("control", "dialect"), f"control.dialect must be one of {', '.join(sorted(interpreters.NAMES))}",
             "bad_value")
         dialect = None
@@ -259,4 +260,8 @@ def load_control(path: str | Path) -> ControlSpec:
     """ControlSpec of the model file at ``path`` (only ``[control]``/``[[axes]]`` are read)."""
     text = read_text(path)
     data = parse_toml(text, str(path))
-    return control_spec(data, str(path), KeyLines.scan(text, str(path)).find)
+    spec = control_spec(data, str(path), KeyLines.scan(text, str(path)).find)
+    if not spec.axes:                              # an empty file (or /dev/null) is no machine
+        raise ModelError([error("missing_key", "the model has no axes ([[axes]], a formula or "
+                                "joints)", SourceRef(str(path), 1))])
+    return spec

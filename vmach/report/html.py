@@ -94,10 +94,11 @@ def _summary(data: dict) -> str:
                      f"error {bounds}"))
     p = data.get("profile")
     if p:
+        dev = p.get("max_abs_deviation_mm")           # None: no station on the part (a finding says so)
+        band = [round(t * 1000, 1) for t in p.get("tolerance_mm") or [] if t is not None]
+        verdict = "PASS" if p.get("pass") else ("n/a" if p.get("pass") is None else "FAIL")
         rows.append(("profile", f"{p.get('type')} d1={p.get('d1')}: max |deviation| "
-                     f"{p.get('max_abs_deviation_mm', 0) * 1000:.1f} µm, band "
-                     f"{[round(t * 1000, 1) for t in p.get('tolerance_mm', [])]} µm: "
-                     f"{'PASS' if p.get('pass') else 'FAIL'}"))
+                     f"{'n/a' if dev is None else f'{dev * 1000:.1f} µm'}, band {band} µm: {verdict}"))
     t = data.get("timings_s") or {}
     if "total" in t:
         rows.append(("run time", f"{t['total']:.2f} s (" + ", ".join(

@@ -70,8 +70,9 @@ def _parse(spec: str, base: str | Path | None, notes: list | None = None) -> eng
         for k in ("d", "l"):
             if k not in p:
                 raise InputError(f"stock cylinder: missing {k}=", kind="stock_spec")
-            if p[k] <= 0 or not math.isfinite(p[k]):
-                raise InputError(f"stock cylinder: {k} must be > 0", kind="stock_spec")
+            if not p[k] >= tol.min_size:
+                raise InputError(f"stock cylinder: {k} must be at least {tol.min_size:g} mm",
+                                 kind="stock_spec")
             if p[k] > tol.max_size:
                 raise InputError(f"stock cylinder: {k}={p[k]:g} mm is larger than any machine "
                                  f"({tol.max_size:g} mm)", kind="stock_spec")
@@ -91,8 +92,8 @@ def _parse(spec: str, base: str | Path | None, notes: list | None = None) -> eng
             raise InputError("stock box: give x=,y=,z= or all of xmin..zmax", kind="stock_spec")
         if not all(math.isfinite(v) for v in (*lo, *hi)):
             raise InputError("stock box: sizes must be finite", kind="stock_spec")
-        if not all(h > lo_ for lo_, h in zip(lo, hi, strict=True)):
-            raise InputError("stock box: sizes must be > 0", kind="stock_spec")
+        if not all(h - lo_ >= tol.min_size for lo_, h in zip(lo, hi, strict=True)):
+            raise InputError(f"stock box: sizes must be at least {tol.min_size:g} mm", kind="stock_spec")
         return engine.box(lo, hi)
     if kind == "mesh":
         path = Path(rest.strip())

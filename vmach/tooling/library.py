@@ -164,8 +164,8 @@ def _num(entry: Mapping[str, Any], key: str, where: tuple, bad, default=None, po
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
         bad(where + (key,), f"{key} must be a number")
         return default
-    if positive and v <= 0:
-        bad(where + (key,), f"{key} must be > 0")
+    if positive and v < tol.min_size:              # 1e-300 divides by zero in the polygons
+        bad(where + (key,), f"{key} must be at least {tol.min_size:g}" if v > 0 else f"{key} must be > 0")
         return default
     if not positive and v < 0:
         bad(where + (key,), f"{key} must be >= 0")
