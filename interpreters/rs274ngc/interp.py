@@ -285,7 +285,8 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
         if line.o is not None or (line.error is not None and not line.items):
             if line.o is None:
                 raise line.error
-            return self.control(line)
+            if line.o.kind != "m99" or len(self.frames) > 1:
+                return self.control(line)
         if line.simple and self.fast_paths and self.simple_step(line):
             return None
         if line.assign and self.fast_paths:
