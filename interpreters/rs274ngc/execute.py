@@ -17,9 +17,10 @@ from interpreters.rs274ngc.state import rotate
 END = 1
 
 
-def _num(v: float) -> str:
-    """A parameter in a DEBUG/PRINT/LOG text: ``%lf`` into LinuxCNC's 30-byte buffer."""
-    text = "%f" % (0.0 if abs(v) < 0.0001 else v)
+def _num(v: float, fmt: str = "%f") -> str:
+    """A parameter in a DEBUG/PRINT/LOG text: ``%lf`` (or the format a ``%d``, ``%f`` or
+    ``%.Nf`` before it chose) into LinuxCNC's 30-byte buffer."""
+    text = fmt % (0.0 if abs(v) < 0.0001 else v)
     return text if len(text) < 30 else "######"
 
 
@@ -97,12 +98,34 @@ class ExecuteMixin:
             out.comment(comment[start:], program=True)
 
     def expand_parameters(self, text: str) -> str:
-        """convert_param_comment: ``#5`` and ``#<name>`` replaced by ``%lf`` values."""
+        """convert_param_comment: ``#5`` and ``#<name>`` replaced by their values, ``%lf``
+        until ``%d`` (``%.0f``), ``%f`` (``%.4f``) or ``%.Nf`` chooses another format for the
+        rest of the text; those format words are not printed."""
         out = []
         i = 0
         n = len(text)
+        fmt = "%f"
         while i < n:
             ch = text[i]
+            if ch == "%":
+                i += 1
+                nxt = text[i] if i < n else ""
+                if nxt == "d":
+                    fmt = "%.0f"
+                    i += 1
+                elif nxt == "f":
+                    fmt = "%.4f"
+                    i += 1
+                elif nxt == ".":
+                    i += 1
+                    if i + 1 < n and text[i].isdigit() and text[i + 1] == "f":
+                        fmt = "%." + text[i] + "f"
+                        i += 2
+                    else:
+                        out.append(".")
+                else:
+                    out.append("%")
+                continue
             if ch != "#":
                 out.append(ch)
                 i += 1
@@ -117,7 +140,7 @@ class ExecuteMixin:
                 index = int(text[i:j])
                 i = j
                 if 0 <= index < 5602:
-                    out.append(_num(self.par(index) if index else 0.0))
+                    out.append(_num(self.par(index) if index else 0.0, fmt))
                 else:
                     out.append("######")
             elif text[i] == "<":
@@ -131,7 +154,7 @@ class ExecuteMixin:
                     raise NgcError("named_parameter_unterminated")
                 i += 1
                 v = self.named_value("".join(name))
-                out.append("######" if v is None else _num(v))
+                out.append("######" if v is None else _num(v, fmt))
             else:
                 out.append("#")
         return "".join(out)

@@ -24,7 +24,7 @@ from interpreters.rs274ngc.lexer import Line, n_label, parse_line
 from interpreters.rs274ngc.motion import MotionMixin
 from interpreters.rs274ngc.offsets import OffsetMixin
 from interpreters.rs274ngc.output import Output
-from interpreters.rs274ngc.state import Params, Settings, ToolTable
+from interpreters.rs274ngc.state import Params, Settings, ToolTable, rotate
 from vmach.canon import ControlSpec, RunOptions
 from vmach.findings import Finding, error
 from vmach.source import SourceRef
@@ -333,6 +333,21 @@ def _pocket(it, index: int) -> float:
     return it.tools.entry(index).pocket if index > 0 else -1
 
 
+def _abs(axis: int):
+    """#<_abs_x>..#<_abs_c>: the position in machine coordinates, in program units
+    (interp_namedparams.cc NP_ABS_X..)."""
+
+    def value(it) -> float:
+        s = it.s
+        p = s.pos[axis] + s.axis_offset[axis]
+        if axis < 2:
+            x, y = rotate(s.pos[0] + s.axis_offset[0], s.pos[1] + s.axis_offset[1], s.rotation)
+            p = x if axis == 0 else y
+        return p + s.origin[axis] + s.tool_offset[axis]
+
+    return value
+
+
 def _coord_system(it) -> float:
     i = it.s.origin_index
     return (530 + 10 * i) if i <= 6 else (590 + i - 6)
@@ -377,6 +392,7 @@ PREDEFINED = {
     "_a": lambda it: it.s.pos[3],
     "_b": lambda it: it.s.pos[4],
     "_c": lambda it: it.s.pos[5],
+    **{"_abs_" + "xyzabc"[i]: _abs(i) for i in range(6)},
     "_current_tool": lambda it: it.tools.spindle.number,
     "_current_pocket": lambda it: _pocket(it, it.s.current_pocket),
     "_selected_tool": lambda it: it.s.selected_tool,

@@ -263,7 +263,8 @@ def arc_data_ijk(move, plane, x1, y1, x2, y2, absolute, i, j, turns, rtol, spira
         raise NgcError("arc_zero_radius", **fields)
     abs_err = abs(r1 - r2)
     rel_err = abs_err / max(r1, r2)
-    if abs_err > spiral and rel_err > SPIRAL_RELATIVE_TOLERANCE:  # 2.9: both must fail
+    # 2.9: both must fail, or the absolute error alone exceed 100 times its tolerance
+    if abs_err > 100.0 * spiral or (abs_err > spiral and rel_err > SPIRAL_RELATIVE_TOLERANCE):
         raise NgcError("arc_radius_mismatch", abs_err="%.4g" % abs_err,
                        rel_err="%.4f" % (rel_err * 100), **fields)
     return cx, cy, (-turns if move == 20 else turns)
