@@ -200,6 +200,8 @@ class ExecuteMixin:
         elif code == 5:
             out.spindle("stop")
             s.spindle = "stop"
+        elif code is not None and code >= 70:
+            self.convert_context(code)
         code = m.get(8)
         if code == 7:
             out.coolant(mist=True)
@@ -301,13 +303,10 @@ class ExecuteMixin:
             s.control = "exact_stop"
         else:
             p, q = block.p, block.q
-            out.set_motion_control_mode("continuous", p if p >= 0 else 0.0)
-            if q >= 0:
-                out.set_naivecam_tolerance(q)
-            elif p >= 0:
-                out.set_naivecam_tolerance(p)
-            else:
-                out.set_naivecam_tolerance(0.0)
+            s.tolerance = p if p >= 0 else 0.0
+            out.set_motion_control_mode("continuous", s.tolerance)
+            s.naivecam = q if q >= 0 else s.tolerance
+            out.set_naivecam_tolerance(s.naivecam)
             s.control = "continuous"
 
     def convert_length_units(self, metric: bool) -> None:

@@ -28,6 +28,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from interpreters.rs274ngc.context import RESTORE_ON_RETURN, VALID
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.expr import evaluate, to_integer
 from interpreters.rs274ngc.lexer import n_label
@@ -45,7 +46,8 @@ class Frame:
     (None for an M98 call, whose #1..#30 are the caller's), how it was called ("call",
     "m98" or "" for the main program) and the repeats left of an ``M98 … L`` it runs."""
 
-    __slots__ = ("prog", "pc", "name", "saved", "call_type", "m98_count")
+    __slots__ = ("prog", "pc", "name", "saved", "call_type", "m98_count", "context",
+                 "context_status")
 
     def __init__(self, prog=None, pc=0, name="", saved=None, call_type=""):
         self.prog = prog
@@ -54,6 +56,8 @@ class Frame:
         self.saved = saved
         self.call_type = call_type
         self.m98_count = -1
+        self.context = None  # the modal state M70/M73 saved (context.py)
+        self.context_status = 0  # context.VALID | context.RESTORE_ON_RETURN
 
 
 class Label:
@@ -380,6 +384,8 @@ class FlowMixin:
         self.pars.locals.pop()
         if frame.saved is not None:
             self.pars.num[1:31] = frame.saved
+        if frame.context_status == VALID | RESTORE_ON_RETURN:  # M73
+            self.restore_context(frame.context)
         g = self.pars.globals
         g["_value"] = 0.0 if value is None else value
         g["_value_returned"] = 0.0 if value is None else 1.0

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.comp import CompMixin
+from interpreters.rs274ngc.context import ContextMixin
 from interpreters.rs274ngc.cycles import CycleMixin
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.execute import ExecuteMixin
@@ -87,7 +88,7 @@ def load_program(path: str) -> Program:
 
 
 class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin, CycleMixin,
-                  OffsetMixin):
+                  OffsetMixin, ContextMixin):
     """One run of one program."""
 
     #: take the fast paths (:mod:`interpreters.rs274ngc.fastpath`); False runs every line
