@@ -264,12 +264,12 @@ def check(block: Block, distance_incremental: bool) -> None:
         raise NgcError("cycle_axis_c")
     if "d" in w and g.get(7) not in (410, 420, 411, 421) and g.get(14) != 960:
         raise NgcError("unused_d")
-    if "e" in w and motion != 760 and block.m.get(5) not in (66, 67, 68):
+    if "e" in w and motion not in (760, 330, 331) and block.m.get(5) not in (66, 67, 68):
         raise NgcError("unused_e")
     if "h" in w and g.get(8) not in (430, 432) and motion != 760:
         raise NgcError("unused_h")
     ijk_users = (20, 30, 50, 51, 760, 870)
-    if "i" in w and motion not in ijk_users and mode0 != 100:
+    if "i" in w and motion not in ijk_users and motion != 331 and mode0 != 100:
         raise NgcError("unused_i")
     if "j" in w and motion not in ijk_users and mode0 != 100:
         raise NgcError("unused_j")
@@ -291,6 +291,8 @@ def check(block: Block, distance_incremental: bool) -> None:
         p_value = int(math.floor(w["p"] + 0.5))
         if (motion in (20, 30) or block.m.get(7) == 19) and abs(p_value - w["p"]) > 0.001:
             raise NgcError("arc_p_integer")
+        if block.m.get(7) == 19 and not 0 <= p_value <= 2:
+            raise NgcError("m19_p_range")
         if motion in (20, 30) and p_value < 1:
             raise NgcError("arc_p_range")
     if block.q != -1.0 and not (
@@ -304,3 +306,15 @@ def check(block: Block, distance_incremental: bool) -> None:
         or g.get(7) in (411, 421) or mode0 == 100 or block.m.get(7) == 19
     ):
         raise NgcError("unused_r")
+    if "r" in w and block.m.get(7) == 19 and not 0.0 <= w["r"] <= 360.0:
+        raise NgcError("m19_r_range")
+    if motion in (330, 331):
+        if "k" not in w:
+            raise NgcError("g33_k_missing")
+        if "f" in w:
+            raise NgcError("g33_f_used")
+    elif motion == 760:
+        if block.p == -1.0:
+            raise NgcError("g76_p_missing")
+        if "i" not in w or "j" not in w or "k" not in w:
+            raise NgcError("g76_ijk_missing")

@@ -1,4 +1,4 @@
-"""Canned cycles G73 G81 G82 G83 G85 G86 G89 (interp_cycles.cc).
+"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G89 (interp_cycles.cc).
 
 In the selected plane the cycle positions at (aa, bb) and drills along the third axis cc:
 XY plane aa=X bb=Y cc=Z, XZ plane aa=Z bb=X cc=Y, YZ plane aa=Y bb=Z cc=X. R is the retract
@@ -95,7 +95,9 @@ class CycleMixin:
             out.set_motion_control_mode("exact_path")
 
         dwell = q = 0.0
-        if motion in (820, 860, 890):
+        if motion in (740, 840):  # tapping: P is optional (the last one, else 0)
+            dwell = s.cycle["p"] if block.p == -1.0 else block.p
+        elif motion in (820, 860, 890):
             if s.motion != motion and block.p == -1.0:
                 raise NgcError("cycle_dwell_missing", code=motion // 10)
             dwell = s.cycle["p"] if block.p == -1.0 else block.p
@@ -128,7 +130,7 @@ class CycleMixin:
                     move(aa, bb, r, True)
             self._cycle_body(motion, move, aa, bb, r, clear, cc, dwell, q)
 
-        if motion in (820, 860, 890):
+        if motion in (740, 820, 840, 860, 890):
             s.cycle["p"] = dwell
         elif motion in (730, 830):
             s.cycle["q"] = q
@@ -188,3 +190,40 @@ class CycleMixin:
             move(aa, bb, bottom, False)
             out.dwell(dwell)
             move(aa, bb, clear, False)
+        elif motion in (740, 840):
+            self._tap(motion, move, aa, bb, clear, bottom, dwell)
+
+    def _tap(self, motion, move, aa, bb, clear, bottom, dwell) -> None:
+        """G84 (right hand, spindle clockwise) and G74 (left hand) floating-chuck tapping:
+        feed in with the overrides off, reverse the spindle, dwell, feed out, restore."""
+        s = self.s
+        out = self.out
+        code = "G%d" % (motion // 10)
+        if s.spindle == "stop":
+            raise NgcError("tap_spindle_stopped", code=code)
+        forward = "cw" if motion == 840 else "ccw"
+        if s.spindle != forward:
+            raise NgcError("tap_spindle_direction", code=code,
+                           direction="clockwise" if s.spindle == "cw" else "counterclockwise")
+        reverse = "ccw" if forward == "cw" else "cw"
+        feed_override, speed_override = s.feed_override, s.speed_override
+        if out.trace:
+            out._p("DISABLE_FEED_OVERRIDE()")
+            out._p("DISABLE_SPEED_OVERRIDE(0)")
+        # LinuxCNC passes the XZ and YZ points to its plane-mapping feed in another order
+        # (interp_cycles.cc convert_cycle_g74_g84), so the axes of those planes come out
+        # permuted: kept, since rs274 and the machine move so
+        order = {170: lambda c: (aa, bb, c), 180: lambda c: (bb, c, aa),
+                 190: lambda c: (c, aa, bb)}[s.plane]
+        move(*order(bottom), False)
+        out.spindle("stop")
+        out.spindle(reverse)
+        out.dwell(dwell)
+        move(*order(clear), False)
+        out.spindle("stop")
+        out.spindle(forward)
+        if out.trace:
+            if feed_override:
+                out._p("ENABLE_FEED_OVERRIDE()")
+            if speed_override:
+                out._p("ENABLE_SPEED_OVERRIDE(0)")

@@ -200,6 +200,8 @@ class ExecuteMixin:
         elif code == 5:
             out.spindle("stop")
             s.spindle = "stop"
+        elif code == 19:
+            self.convert_orient(block)
         elif code is not None and code >= 70:
             self.convert_context(code)
         code = m.get(8)
@@ -224,6 +226,20 @@ class ExecuteMixin:
         code = m.get(10)
         if code is not None:
             raise NgcError("unknown_m_code", code=code)
+
+    def convert_orient(self, block: blk.Block) -> None:
+        """M19: orient the spindle to R degrees (plus the INI's ORIENT_OFFSET), P the
+        direction, Q the seconds to wait; the spindle counts as stopped."""
+        s = self.s
+        s.spindle = "stop"
+        w = block.words
+        if "r" in w or block.p != -1.0:
+            angle = w.get("r", 0.0) + s.orient_offset
+            self.out.orient_spindle(angle, int(block.p) if block.p != -1.0 else 0)
+        if block.q != -1.0:
+            if block.q <= 0.0:
+                raise NgcError("m19_q_not_positive")
+            self.out.wait_orient(block.q)
 
     def convert_g(self, block: blk.Block) -> None:
         g = block.g

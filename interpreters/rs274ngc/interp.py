@@ -26,6 +26,7 @@ from interpreters.rs274ngc.motion import MotionMixin
 from interpreters.rs274ngc.offsets import OffsetMixin
 from interpreters.rs274ngc.output import Output
 from interpreters.rs274ngc.state import Params, Settings, ToolTable, rotate
+from interpreters.rs274ngc.threading import ThreadingMixin
 from vmach.canon import ControlSpec, RunOptions
 from vmach.findings import Finding, error
 from vmach.source import SourceRef
@@ -88,7 +89,7 @@ def load_program(path: str) -> Program:
 
 
 class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin, CycleMixin,
-                  OffsetMixin, ContextMixin):
+                  OffsetMixin, ContextMixin, ThreadingMixin):
     """One run of one program."""
 
     #: take the fast paths (:mod:`interpreters.rs274ngc.fastpath`); False runs every line

@@ -66,6 +66,8 @@ class MotionMixin:
             self.convert_straight(motion, block)
         elif motion == 20 or motion == 30:
             self.convert_arc(motion, block)
+        elif motion in (330, 331, 760):
+            self.convert_threading(motion, block)
         elif motion == 800:
             self.out.comment("interpreter: motion mode set to none")
             self.s.motion = 800
