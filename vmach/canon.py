@@ -433,11 +433,15 @@ class RunOptions:
     tool_radius : ``(tool, D number) -> radius`` (mm, or None for an offset the tool lacks),
         for tool radius compensation (G41/G42); the tool as :class:`ToolChange` names it
         (``"GLOD D40"``, ``"1"``). None when no tool library was given.
+    dialect_options : settings only one dialect understands, by name (RS274/NGC:
+        ``tool_table``, ``ini``, ``var_file``, ``var_file_update``, ``continue_after_error``);
+        a dialect ignores the names it does not know.
     """
 
     max_blocks: int = 10_000_000
     max_call_depth: int = 16
     tool_radius: Callable[[str, int], float | None] | None = None
+    dialect_options: Mapping[str, Any] = field(default_factory=dict)
 
 
 @dataclass(slots=True)

@@ -46,6 +46,8 @@ class VerifyOptions:
     clearance: float = 1.0  # near-miss distance for rapids, mm
     accuracy: str | None = None  # stock simulation preset (vmach.tol.ACCURACY); None: setup, else standard
     dialect: str | None = None  # None: by the extension, or the machine's (interpreters.dialect_for)
+    #: a dialect's own settings (RunOptions.dialect_options: LinuxCNC tool table, INI, .var)
+    dialect_options: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -232,7 +234,8 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
     with clock("interpret"):
         dialect = interpreters.dialect_for(path, options.dialect, control.dialect)
         result = dialect.run(str(program), control, RunOptions(
-            max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None))
+            max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None,
+            dialect_options=options.dialect_options))
         report.result = result
         report.findings.extend(result.findings)
 

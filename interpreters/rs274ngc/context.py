@@ -1,3 +1,4 @@
+# ruff: noqa: UP031  (printf formats mirror LinuxCNC's C printf calls)
 """M70..M73: saving and restoring the modal state in the call frame, as LinuxCNC 2.9 does.
 
 LinuxCNC (interp_convert.cc ``save_settings``/``restore_settings``) keeps the state as

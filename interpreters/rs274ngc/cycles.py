@@ -1,3 +1,4 @@
+# ruff: noqa: UP031  (printf formats mirror LinuxCNC's C printf calls)
 """Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G89 (interp_cycles.cc).
 
 In the selected plane the cycle positions at (aa, bb) and drills along the third axis cc:

@@ -310,16 +310,14 @@ class FlowMixin:
         known = self.subs.get(name)
         if known is not None:
             return known
-        if not _SAFE_NAME.fullmatch(name) or ".." in name:
-            raise NgcError("sub_outside_program", o.col, name=name)
-        path = self.directory / f"{name}.ngc"
-        if path.is_file():
+        found = self.sub_file(name, o.col)
+        if found is not None:
+            path, shown = found
             key = str(path)
             prog = self.programs.get(key)
             if prog is None:
                 from interpreters.rs274ngc.interp import load_program
 
-                shown = str(Path(self.path).parent / f"{name}.ngc")
                 prog = self.programs[key] = load_program(shown)
             for i in range(len(prog.raw)):
                 ln = prog.line(i)
@@ -336,6 +334,24 @@ class FlowMixin:
         self.prog, self.pc, self.index = here_prog, here_pc, here_index
         self.line = line
         return found
+
+    def sub_file(self, name: str, col: int = 0) -> tuple[Path, str] | None:
+        """The file ``name.ngc`` a call of a subroutine not yet defined reads, as (path, the
+        path findings show), or None. The one place subroutine files are resolved: the main
+        program's directory, then the SUBROUTINE_PATH directories of an INI file the user
+        named (``--ini``); never elsewhere. A name with a path separator or ``..`` is
+        refused (``sub_outside_program``)."""
+        if not _SAFE_NAME.fullmatch(name) or ".." in name:
+            raise NgcError("sub_outside_program", col, name=name)
+        dirs = [self.directory]
+        if self.config is not None:
+            dirs += [d for d in self.config.subroutine_dirs if d != self.directory]
+        for d in dirs:
+            path = d / f"{name}.ngc"
+            if path.is_file():
+                shown = Path(self.path).parent / path.name if d == self.directory else path
+                return path, str(shown)
+        return None
 
     def _seek_sub(self, name: str) -> None:
         prog = self.prog

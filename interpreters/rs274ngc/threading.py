@@ -1,3 +1,4 @@
+# ruff: noqa: UP031  (printf formats mirror LinuxCNC's C printf calls)
 """Spindle-synchronised motion: G33, G33.1 rigid tapping and the G76 threading cycle
 (LinuxCNC 2.9 interp_convert.cc ``convert_straight``, ``convert_threading_cycle``).
 

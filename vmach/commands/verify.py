@@ -7,6 +7,7 @@ import json
 import sys
 from pathlib import Path
 
+from vmach.commands.run import add_linuxcnc_arguments, linuxcnc_options
 from vmach.errors import InputError
 from vmach.motion.timing import format_seconds
 from vmach.output import atomic_writer, make_dir, writable_dir
@@ -21,6 +22,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--machine", help="machine model (path or name in models/)")
     p.add_argument("--dialect", help="override the dialect chosen by the extension or the machine")
     p.add_argument("--tools", help="tool library (TOML)")
+    add_linuxcnc_arguments(p)
     p.add_argument("--stock", help="stock: cylinder:d=60,l=100 | box:x=..,y=..,z=.. | mesh:part.stl")
     p.add_argument("--profile", help="profile to check, e.g. P3G:50 (DIN 32711) or P4C:35x30")
     p.add_argument("--profile-z", help="Z range of the profile check, e.g. -35:-5")
@@ -75,6 +77,7 @@ def run(args: argparse.Namespace) -> int:
         profile_stations=args.stations,
         accuracy=args.accuracy,
         dialect=args.dialect,
+        dialect_options=linuxcnc_options(args),
     )
     report = verify(args.program, options)
     data = report.to_json()
