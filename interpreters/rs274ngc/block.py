@@ -73,8 +73,10 @@ class Block:
         return -1 if v is None else int(v)
 
     def has_axis(self) -> bool:
+        """Axis or polar (``@`` radius, ``^`` angle) words."""
         w = self.words
-        return "x" in w or "y" in w or "z" in w or "a" in w or "b" in w or "c" in w
+        return ("x" in w or "y" in w or "z" in w or "a" in w or "b" in w or "c" in w
+                or "@" in w or "^" in w)
 
 
 def _col(line: Line, k: int, col: int) -> int:
@@ -114,6 +116,8 @@ def read_block(line: Line, ctx) -> Block:
             block.named.append((item[1], v))
     if line.error is not None:
         raise line.error
+    if "x" in block.words and ctx.s.diameter_mode:  # read_x in G7: a diameter
+        block.words["x"] /= 2
     return block
 
 
@@ -195,12 +199,21 @@ def _m_code(block: Block, v: float) -> None:
 # --------------------------------------------------------------------------------------------
 
 
-def enhance(block: Block, motion_mode: int) -> None:
+def enhance(block: Block, motion_mode: int, plane: int = 170) -> None:
     """Decide the motion of the block and check axis words against it."""
     axis = block.has_axis()
     mode0 = block.g.get(0, -1)
     mode1 = block.g.get(1, -1)
     covets = mode0 in (100, 280, 300, 520, 920)
+    w = block.words
+    polar = "@" in w or "^" in w
+    if polar:
+        if plane != 170:
+            raise NgcError("polar_plane")
+        if "x" in w or "y" in w:
+            raise NgcError("polar_with_x" if "x" in w else "polar_with_y")
+        if mode0 == 920:
+            raise NgcError("polar_not_motion")
     if mode1 != -1:
         if mode1 == 800:
             if axis and not covets:
@@ -217,9 +230,11 @@ def enhance(block: Block, motion_mode: int) -> None:
         if not axis and mode0 in (520, 920):
             raise NgcError("axis_words_missing_g92")
     elif axis:
-        if motion_mode in (-1, 800):
+        dynamic = block.g.get(8) in (431, 432)  # G43.1/G43.2 take the axis words
+        if motion_mode in (-1, 800) and not dynamic:
             raise NgcError("axis_words_unused")
-        block.motion = motion_mode
+        if not dynamic:
+            block.motion = motion_mode
     elif motion_mode in (20, 30) and any(c in block.words for c in "ijk"):
         block.motion = motion_mode
 

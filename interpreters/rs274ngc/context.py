@@ -45,7 +45,7 @@ class ContextMixin:
             11: _control(s),
             13: 970,
             14: 901 if s.ijk_absolute else 911,
-            15: 70 if getattr(s, "diameter_mode", False) else 80,
+            15: 70 if s.diameter_mode else 80,
             16: 923 if self.pars.num[5210] else 922,
         }
         if s.mist:

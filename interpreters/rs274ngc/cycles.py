@@ -11,10 +11,14 @@ and restore the previous motion control mode afterwards.
 
 from __future__ import annotations
 
+import math
+
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.diag import NgcError
+from interpreters.rs274ngc.motion import polar_step
 
 G83_RAPID_DELTA_INCH = 0.010
+_D2R = math.pi / 180.0
 
 # plane -> (aa, bb, cc) indices into x y z, depth letter, plane name in messages
 _PLANES = {
@@ -69,15 +73,22 @@ class CycleMixin:
             old_cc = s.cycle_il
         else:
             old_cc = s.cycle_il = current_cc
+        inc_r = inc_t = 0.0  # polar increments (G17 only: enhance refuses other planes)
         if not s.incremental:
             inc_a = inc_b = 0.0
             r = r_number
             cc = depth_word
             aa = w.get(letters[ia], pos[ia])
             bb = w.get(letters[ib], pos[ib])
+            if "@" in w or "^" in w:
+                radius = w["@"] if "@" in w else math.hypot(pos[1], pos[0])
+                theta = w["^"] * _D2R if "^" in w else math.atan2(pos[1], pos[0])
+                aa, bb = radius * math.cos(theta), radius * math.sin(theta)
         else:
             inc_a = w.get(letters[ia], 0.0)
             inc_b = w.get(letters[ib], 0.0)
+            inc_r = w.get("@", 0.0)
+            inc_t = w.get("^", 0.0) * _D2R
             r = r_number + old_cc
             cc = r + depth_word
             aa = pos[ia]
@@ -122,6 +133,8 @@ class CycleMixin:
                 self._count_block()     # L1000000000 filled the memory
             aa += inc_a
             bb += inc_b
+            if inc_r or inc_t:
+                aa, bb = polar_step(aa, bb, inc_r, inc_t, "polar_at_origin")
             if repeat == repeats and current_cc > r:
                 move(aa, bb, current_cc, True)
                 move(aa, bb, r, True)

@@ -260,6 +260,9 @@ class ExecuteMixin:
         code = g.get(6)
         if code is not None:
             self.convert_length_units(code == 210)
+        code = g.get(15)
+        if code is not None:
+            self.convert_diameter_mode(code == 70, block)
         code = g.get(7)
         if code is not None:
             self.convert_cutter_compensation(code, block)
@@ -305,6 +308,24 @@ class ExecuteMixin:
             self.convert_axis_offsets(code, block)
         if block.motion != -1:
             self.convert_motion(block.motion, block)
+
+    def convert_diameter_mode(self, diameter: bool, block: blk.Block) -> None:
+        """G7 (X words are diameters) and G8 (radii): the block's X, read in the old mode,
+        is rescaled, as are G76's I J K (convert_lathe_diameter_mode)."""
+        s = self.s
+        if diameter == s.diameter_mode:
+            return
+        f = 0.5 if diameter else 2.0
+        self.out.comment("interpreter: Lathe diameter mode changed to "
+                         + ("diameter" if diameter else "radius"))
+        w = block.words
+        if "x" in w:
+            w["x"] *= f
+        if block.motion == 760:
+            for letter in "ijk":
+                if letter in w:
+                    w[letter] *= f
+        s.diameter_mode = diameter
 
     def convert_control_mode(self, code: int, block: blk.Block) -> None:
         s = self.s

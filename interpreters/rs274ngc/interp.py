@@ -369,7 +369,7 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
         if line.assign and self.fast_paths:
             return self.assign(line)
         block = blk.read_block(line, self)
-        blk.enhance(block, s.motion)
+        blk.enhance(block, s.motion, s.plane)
         blk.check(block, s.incremental)
         if self.strict:
             self.check_axes(block)
@@ -465,8 +465,8 @@ PREDEFINED = {
     "_spindle_rpm_mode": lambda it: 1,
     "_spindle_css_mode": lambda it: 0,
     "_ijk_absolute_mode": lambda it: it.s.ijk_absolute,
-    "_lathe_diameter_mode": lambda it: 0,
-    "_lathe_radius_mode": lambda it: 1,
+    "_lathe_diameter_mode": lambda it: it.s.diameter_mode,
+    "_lathe_radius_mode": lambda it: not it.s.diameter_mode,
     "_spindle_on": lambda it: it.s.spindle != "stop",
     "_spindle_cw": lambda it: it.s.spindle == "cw",
     "_mist": lambda it: it.s.mist,

@@ -370,10 +370,13 @@ def _item(reader: Reader, pos: int, items: list) -> int:
         return len(text)
     if c == "#":
         return _setting(reader, pos, items, col)
-    if c in "$@^":
-        what = {"$": "spindle selection ($)", "@": "polar coordinates (@)",
-                "^": "polar coordinates (^)"}[c]
-        raise NgcError("unsupported", col, what=what)
+    if c == "@" or c == "^":  # polar radius and angle (read_radius, read_theta)
+        _check_repeated(items, c, col)
+        v, end = reader.real_value(pos + 1)
+        items.append(("w", c, v, col))
+        return end
+    if c == "$":
+        raise NgcError("unsupported", col, what="spindle selection ($)")
     if c < " " or c > "z" or c == " ":
         raise NgcError("bad_character", col, char="\\%03o" % (ord(c) & 0xFF))
     raise NgcError("bad_character", col, char=c)

@@ -74,7 +74,7 @@ class ThreadingMixin:
             raise NgcError("g76_j_not_positive")
         if k_number <= j_number:
             raise NgcError("g76_k_not_above_j")
-        if getattr(s, "diameter_mode", False):
+        if s.diameter_mode:
             i_number /= 2
             j_number /= 2
             k_number /= 2
