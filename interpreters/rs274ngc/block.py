@@ -291,14 +291,14 @@ def check(block: Block, distance_incremental: bool) -> None:
     if "k" in w and motion not in (20, 30, 330, 331, 760, 870):
         raise NgcError("unused_k")
     if "l" in w and not (
-        810 <= motion <= 890 or motion in (760, 520, 730) or mode0 == 100
+        810 <= motion <= 890 or motion in (760, 52, 730) or mode0 == 100
         or g.get(7) in (410, 411, 420, 421) or block.m.get(5) == 66
     ):
         raise NgcError("unused_l")
     if "p" in w:
         if not (
             mode0 in (100, 40) or g.get(13) == 640
-            or motion in (760, 820, 860, 880, 890, 50, 520, 20, 30, 740, 840)
+            or motion in (760, 820, 860, 880, 890, 50, 52, 20, 30, 740, 840)
             or block.m.get(9) in (50, 51, 52, 53) or block.m.get(5) in (62, 63, 64, 65, 66)
             or block.m.get(7) == 19 or block.user_m
         ):

@@ -17,6 +17,7 @@ from interpreters.rs274ngc.state import rotate
 END = 1
 
 
+
 def _num(v: float, fmt: str = "%f") -> str:
     """A parameter in a DEBUG/PRINT/LOG text: ``%lf`` (or the format a ``%d``, ``%f`` or
     ``%.Nf`` before it chose) into LinuxCNC's 30-byte buffer."""
@@ -185,6 +186,9 @@ class ExecuteMixin:
         m = block.m
         s = self.s
         out = self.out
+        code = m.get(5)
+        if code is not None:
+            self.convert_io(code, block)
         code = m.get(6)
         if code == 6:
             self.convert_tool_change()
@@ -226,20 +230,6 @@ class ExecuteMixin:
         code = m.get(10)
         if code is not None:
             raise NgcError("unknown_m_code", code=code)
-
-    def convert_orient(self, block: blk.Block) -> None:
-        """M19: orient the spindle to R degrees (plus the INI's ORIENT_OFFSET), P the
-        direction, Q the seconds to wait; the spindle counts as stopped."""
-        s = self.s
-        s.spindle = "stop"
-        w = block.words
-        if "r" in w or block.p != -1.0:
-            angle = w.get("r", 0.0) + s.orient_offset
-            self.out.orient_spindle(angle, int(block.p) if block.p != -1.0 else 0)
-        if block.q != -1.0:
-            if block.q <= 0.0:
-                raise NgcError("m19_q_not_positive")
-            self.out.wait_orient(block.q)
 
     def convert_g(self, block: blk.Block) -> None:
         g = block.g

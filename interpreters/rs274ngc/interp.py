@@ -23,9 +23,11 @@ from interpreters.rs274ngc.execute import ExecuteMixin
 from interpreters.rs274ngc.fastpath import FastPathMixin
 from interpreters.rs274ngc.flow import FlowMixin
 from interpreters.rs274ngc.lexer import Line, n_label, parse_line
+from interpreters.rs274ngc.mcodes import MCodeMixin
 from interpreters.rs274ngc.motion import MotionMixin
 from interpreters.rs274ngc.offsets import OffsetMixin
 from interpreters.rs274ngc.output import Output
+from interpreters.rs274ngc.splines import SplineMixin
 from interpreters.rs274ngc.state import Params, Settings, ToolTable, rotate
 from interpreters.rs274ngc.threading import ThreadingMixin
 from vmach.canon import ControlSpec, RunOptions
@@ -93,7 +95,7 @@ def load_program(path: str) -> Program:
 
 
 class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin, CycleMixin,
-                  OffsetMixin, ContextMixin, ThreadingMixin):
+                  OffsetMixin, ContextMixin, ThreadingMixin, SplineMixin, MCodeMixin):
     """One run of one program."""
 
     #: take the fast paths (:mod:`interpreters.rs274ngc.fastpath`); False runs every line
@@ -138,6 +140,7 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
         #: the errors a run that goes on after errors met
         self.errors: list[Finding] = []
         self.readonly_named: set[str] = set()
+        self.nurbs_points: list[tuple[float, float, float]] = []  # G5.2's control points
 
     # -- evaluation context (see expr.py) ----------------------------------------------------
 

@@ -121,6 +121,12 @@ class MotionMixin:
             self.convert_arc(motion, block)
         elif motion in (330, 331, 760):
             self.convert_threading(motion, block)
+        elif 382 <= motion <= 385:
+            self.convert_probe(motion, block)
+        elif motion in (50, 51):
+            self.convert_spline(motion, block)
+        elif motion == 52:
+            self.convert_nurbs(52, block)
         elif motion == 800:
             self.out.comment("interpreter: motion mode set to none")
             self.s.motion = 800

@@ -169,6 +169,8 @@ class OffsetMixin:
             self.convert_savehome(code)
         elif code in (520, 920):
             self.convert_axis_offsets(code, block)
+        elif code == 53:
+            self.convert_nurbs(53, block)
 
     def convert_setup(self, block: blk.Block) -> None:
         """G10 L2 / L20: set the origin of coordinate system P."""

@@ -340,6 +340,30 @@ class Output:
                 self.flush()
             self.commands.append(new_feed(self.src, self.machine(p), feed))
 
+    def straight_feed_command(self, p, feed: float) -> None:
+        """A linear feed for vmach's stream only (a NURBS_FEED's sampled path)."""
+        if self.want:
+            if self.spindle_dirty:
+                self.flush()
+            self.commands.append(new_feed(self.src, self.machine(p), feed))
+
+    def traverse_command(self, p) -> None:
+        """A rapid move for vmach's stream only (a probe's back-off)."""
+        if self.want:
+            if self.spindle_dirty:
+                self.flush()
+            self.commands.append(new_traverse(self.src, self.machine(p)))
+
+    def arc_feed_command(self, p, center, clockwise: bool, feed: float) -> None:
+        """An XY arc for vmach's stream only (a NURBS_FEED's sampled path); ``center`` (x, y)."""
+        if self.want:
+            if self.spindle_dirty:
+                self.flush()
+            cm = self.machine([center[0], center[1], *p[2:]])
+            self._c(vc.ArcFeed(self.src, axes=self.machine(p), plane=PLANE_AXES[170],
+                               center=(cm[PLANE_AXES[170][0]], cm[PLANE_AXES[170][1]]),
+                               clockwise=clockwise, turns=0, feed=feed))
+
     def rigid_tap(self, p, back, feed: float) -> None:
         """RIGID_TAP: in to ``p`` and out again to ``back`` (the start), synchronised with the
         spindle; vmach's stream gets the two feeds."""

@@ -1,6 +1,7 @@
 # ruff: noqa: UP031  (printf formats mirror LinuxCNC's C printf calls)
 """Spindle-synchronised motion: G33, G33.1 rigid tapping and the G76 threading cycle
-(LinuxCNC 2.9 interp_convert.cc ``convert_straight``, ``convert_threading_cycle``).
+(LinuxCNC 2.9 interp_convert.cc ``convert_straight``, ``convert_threading_cycle``), and
+straight probing G38.2..G38.5 (``convert_probe``).
 
 rs274 prints the synchronisation (``START_SPEED_FEED_SYNC(pitch,0)``) around the moves. In
 vmach's canonical stream the synchronised moves are linear feeds at pitch × spindle speed
@@ -46,6 +47,43 @@ class ThreadingMixin:
             if end[3:6] != s.pos[3:6]:
                 raise NgcError("thread_rotary_axes")
             self._g76(block, end)
+
+    def convert_probe(self, motion: int, block: blk.Block) -> None:
+        """G38.2..G38.5 as rs274 runs them without a machine: the probe move goes to the
+        programmed point and never trips (#5070 = 0, no error even for G38.2/G38.4, as
+        rs274); #5061..#5066 become that point and the tool backs off 0.254 mm (0.01 in)
+        towards the start. vmach's stream gets the feed to the point and the back-off."""
+        s = self.s
+        if s.comp_side:
+            raise NgcError("probe_comp")
+        if s.feed == 0.0:
+            raise NgcError("probe_zero_feed")
+        if s.feed_mode == 2:
+            raise NgcError("probe_per_rev")
+        end = self.find_ends(block)
+        if motion in (382, 384) and end == s.pos:
+            raise NgcError("probe_too_close")
+        out = self.out
+        out.simple("TURN_PROBE_ON")
+        if out.trace:
+            out._p("STRAIGHT_PROBE(%.4f, %.4f, %.4f, %.4f, %.4f, %.4f)" % tuple(end))
+        d = [s.pos[i] - end[i] for i in range(3)]
+        length = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        back = list(end)
+        if length:
+            step = 0.254 if s.metric else 0.01
+            for i in range(3):
+                back[i] = end[i] + step * d[i] / length
+        out.straight_feed_command(end, self.feed_for_output(block))
+        if length:
+            out.traverse_command(back)
+        out.ppos = back
+        out.simple("TURN_PROBE_OFF")
+        s.motion = motion
+        num = self.pars.num
+        num[5061:5067] = end
+        num[5067:5071] = [0.0, 0.0, 0.0, 0.0]
+        s.pos = back
 
     def _synced_feed(self, pitch: float) -> float:
         """The feed of a move at ``pitch`` per spindle revolution, for vmach's stream: mm/rev
