@@ -141,8 +141,6 @@ class FastPathMixin:
         Does what read_block/enhance/check/execute_block do for such a line; returns False,
         before changing anything, when the line needs the general path after all.
         """
-        if self.s.diameter_mode:  # X words are diameters: read_block halves them
-            return False
         fast = line.fast
         if fast is not None:
             motion, words = fast
@@ -175,6 +173,8 @@ class FastPathMixin:
 
     def _simple_execute(self, block, motion: int, words: dict) -> bool:
         s = self.s
+        if s.diameter_mode:  # X words are diameters: read_block halves them
+            return False
         if motion == -1 and len(words) > ("f" in words):
             motion = s.motion
             if motion == -1 or motion == 800:

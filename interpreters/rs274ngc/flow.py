@@ -103,7 +103,7 @@ class FlowMixin:
 
     def qualified(self, o, name: str | None = None) -> str:
         if name is None:
-            name = self.o_name(o)
+            name = self.o_name(o) if o.dynamic else o.name
         if o.kind in _GLOBAL:
             return name
         if len(self.frames) > 1:

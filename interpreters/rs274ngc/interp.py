@@ -365,7 +365,8 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
         if line.o is not None or (line.error is not None and not line.items):
             if line.o is None:
                 raise line.error
-            if line.o.kind != "m99" or len(self.frames) > 1:
+            o = line.o
+            if not o.dynamic or o.kind != "m99" or len(self.frames) > 1:
                 return self.control(line)
         if line.simple and self.fast_paths and self.simple_step(line):
             return None

@@ -46,7 +46,7 @@ class OLine:
     """
 
     __slots__ = ("kind", "name", "col", "args", "value", "comment", "value_error",
-                 "trailing_error", "handler", "name_value", "loop")
+                 "trailing_error", "handler", "name_value", "loop", "dynamic")
 
     def __init__(self, kind, name, col, args=(), value=None, comment=None):
         self.kind = kind
@@ -61,6 +61,8 @@ class OLine:
         #: the number of ``o#1 call``/``o[...] call`` (or M98's P word): computed when read
         self.name_value = None
         self.loop = None  # M98's L word (repeat count), a value, or None
+        #: the label is found when the line is read (name_value, or M99's running sub)
+        self.dynamic = kind in ("m98", "m99")
 
 
 class Line:
@@ -443,6 +445,7 @@ def _o_line(reader: Reader, pos: int, line: Line) -> None:
     o = line.o = OLine(kind, name, col)
     if not name:
         o.name_value = v
+        o.dynamic = True
     try:
         if kind in ("while", "if", "elseif", "repeat"):
             if pos >= len(text) or text[pos] != "[":
