@@ -15,7 +15,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
+from catalog import shared_or_skip
 
 ROOT = Path(__file__).resolve().parents[2]
 RUNNER = ROOT.parent / "shared" / "suites" / "linuxcnc" / "run.py"
@@ -24,17 +24,8 @@ SHIM = Path(__file__).resolve().parent / "rs274_shim"
 FLOOR = 69
 
 
-def _runner() -> Path:
-    if RUNNER.is_file():
-        return RUNNER
-    msg = f"LinuxCNC's suite not found at {RUNNER}"
-    if os.environ.get("CI", "").lower() == "true":
-        pytest.fail(msg + " (CI=true: the suite must run)")
-    pytest.skip(msg)
-
-
 def test_linuxcnc_interpreter_suite_passes_at_least_the_floor():
-    runner = _runner()
+    runner = shared_or_skip(RUNNER, "LinuxCNC's interpreter suite")
     vmach = Path(sys.executable).with_name("vmach")
     assert vmach.is_file(), vmach
     env = dict(os.environ, PATH=f"{SHIM}{os.pathsep}{os.environ.get('PATH', '')}",
