@@ -163,3 +163,19 @@ def test_ini_subroutine_path_is_searched_after_the_program_directory(tmp_path, c
                                     encoding="utf-8")
     assert main(["run", str(prog), "--format", "rs274", "--ini", str(ini)]) == 0
     assert "beside" in capsys.readouterr().out
+
+
+def test_verify_honours_the_tool_table(tmp_path, capsys):
+    """verify reads the LinuxCNC tool table too: tool 7 exists only in it."""
+    (tmp_path / "v.tbl").write_text("T7 P7 Z0.5 D0.25\n", encoding="utf-8")
+    prog = tmp_path / "v.ngc"
+    prog.write_text("G21 G90 G17\nT7 M6\nS1000 M3\nG0 X-20 Y-20 Z5\nG41 G1 X0 Y0 Z-1 F200\n"
+                    "G1 X30\nG1 Y30\nG40 G0 X50 Y50 Z5\nM5 M2\n", encoding="utf-8")
+    base = ["verify", str(prog), "--machine", "s5d", "--stock", "box:x=40,y=40,z=10",
+            "--no-images", "--quiet", "--format", "json"]
+    assert main([*base, "--out", str(tmp_path / "a")]) == 1
+    report = json.loads(capsys.readouterr().out)
+    assert [f["kind"] for f in report["findings"]] == ["tool_not_found"]
+    assert main([*base, "--out", str(tmp_path / "b"), "--tool-table", str(tmp_path / "v.tbl")]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert [f for f in report["findings"] if f["severity"] == "error"] == []
