@@ -199,6 +199,9 @@ def _m_code(block: Block, v: float) -> None:
 # --------------------------------------------------------------------------------------------
 
 
+_LATHE_CYCLES = frozenset((700, 710, 711, 712, 720, 721, 722))
+
+
 def enhance(block: Block, motion_mode: int, plane: int = 170) -> None:
     """Decide the motion of the block and check axis words against it."""
     axis = block.has_axis()
@@ -223,7 +226,7 @@ def enhance(block: Block, motion_mode: int, plane: int = 170) -> None:
         else:
             if covets:
                 raise NgcError("two_axis_g_codes")
-            if not axis and mode1 not in (0, 10, 20, 30, 52):
+            if not axis and mode1 not in (0, 10, 20, 30, 52) and mode1 not in _LATHE_CYCLES:
                 raise NgcError("axis_words_missing")
         block.motion = mode1
     elif covets:
@@ -277,14 +280,16 @@ def check(block: Block, distance_incremental: bool) -> None:
         raise NgcError("cycle_axis_b")
     if "c" in w and cycle:
         raise NgcError("cycle_axis_c")
-    if "d" in w and g.get(7) not in (410, 420, 411, 421) and g.get(14) != 960:
+    lathe = motion in _LATHE_CYCLES  # G70..G72.2: refused as unsupported when run
+    if "d" in w and g.get(7) not in (410, 420, 411, 421) and g.get(14) != 960 and not lathe:
         raise NgcError("unused_d")
-    if "e" in w and motion not in (760, 330, 331) and block.m.get(5) not in (66, 67, 68):
+    if "e" in w and motion not in (760, 330, 331, 700) and block.m.get(5) not in (66, 67, 68):
         raise NgcError("unused_e")
     if "h" in w and g.get(8) not in (430, 432) and motion != 760:
         raise NgcError("unused_h")
     ijk_users = (20, 30, 50, 51, 760, 870)
-    if "i" in w and motion not in ijk_users and motion != 331 and mode0 != 100:
+    if "i" in w and motion not in ijk_users and motion != 331 and mode0 != 100 and not (
+            lathe and motion != 700):
         raise NgcError("unused_i")
     if "j" in w and motion not in ijk_users and mode0 != 100:
         raise NgcError("unused_j")
@@ -298,7 +303,7 @@ def check(block: Block, distance_incremental: bool) -> None:
     if "p" in w:
         if not (
             mode0 in (100, 40) or g.get(13) == 640
-            or motion in (760, 820, 860, 880, 890, 50, 52, 20, 30, 740, 840)
+            or motion in (760, 820, 860, 880, 890, 50, 52, 20, 30, 740, 840, 700)
             or block.m.get(9) in (50, 51, 52, 53) or block.m.get(5) in (62, 63, 64, 65, 66)
             or block.m.get(7) == 19 or block.user_m
         ):
@@ -311,13 +316,13 @@ def check(block: Block, distance_incremental: bool) -> None:
         if motion in (20, 30) and p_value < 1:
             raise NgcError("arc_p_range")
     if block.q != -1.0 and not (
-        motion in (830, 730, 50, 760) or block.m.get(5) in (66, 67, 68)
+        motion in (830, 730, 50, 760) or lathe or block.m.get(5) in (66, 67, 68)
         or mode0 == 100 or block.m.get(6) == 61 or g.get(13) == 640 or block.m.get(7) == 19
         or block.user_m
     ):
         raise NgcError("unused_q")
     if "r" in w and not (
-        motion in (20, 30, 760, 730, 740) or 810 <= motion <= 890
+        motion in (20, 30, 760, 730, 740) or 810 <= motion <= 890 or (lathe and motion != 700)
         or g.get(7) in (411, 421) or mode0 == 100 or block.m.get(7) == 19
     ):
         raise NgcError("unused_r")
