@@ -101,9 +101,8 @@ class FlowMixin:
         v = self._read_value(o.name_value, self.defining is not None)
         return str(to_integer(v) if o.kind == "m98" else int(v))
 
-    def qualified(self, o, name: str | None = None) -> str:
-        if name is None:
-            name = self.o_name(o) if o.dynamic else o.name
+    def qualified(self, o) -> str:
+        name = self.o_name(o) if o.dynamic else o.name
         if o.kind in _GLOBAL:
             return name
         if len(self.frames) > 1:
@@ -126,8 +125,6 @@ class FlowMixin:
             self.call_args = ()
         if o.trailing_error is not None:
             raise o.trailing_error
-        if self.fanuc_disabled and o.kind in ("m98", "m99", "program"):
-            raise NgcError("fanuc_disabled_" + o.kind)
         getattr(self, o.handler)(line, o, self.qualified(o))
         if self.skipping is not None:
             self.skip()
@@ -244,6 +241,7 @@ class FlowMixin:
 
     def o_program(self, line, o, name):
         """A bare program number (O1000): LinuxCNC goes on, unless in an O-word call."""
+        self._fanuc_allowed(o)
         if len(self.frames) > 1 and self.frames[-1].call_type != "m98":
             raise NgcError("fanuc_sub_not_m98", o.col)
         return None
@@ -267,6 +265,7 @@ class FlowMixin:
         """``M98 P… [L…]`` (interp_o_word.cc execute_call): #1..#30 stay the caller's; with
         L the M98 line is returned to until its count (kept in the caller's frame) runs
         out; ``L0`` enters the call level without running the sub, as LinuxCNC does."""
+        self._fanuc_allowed(o)
         if len(self.frames) >= min(self.options.max_call_depth, MAX_CALL_LEVELS):
             raise NgcError("call_depth", o.col)
         caller = self.frames[-1]
@@ -294,7 +293,13 @@ class FlowMixin:
         self.pc = index + 1
 
     def o_m99(self, line, o, name):
+        self._fanuc_allowed(o)
         return self._return(line, o)
+
+    def _fanuc_allowed(self, o) -> None:
+        """[RS274NGC]DISABLE_FANUC_STYLE_SUB refuses M98, M99 and bare O-numbers."""
+        if self.fanuc_disabled:
+            raise NgcError("fanuc_disabled_" + o.kind)
 
     def _check_sub_style(self, prog, index: int, call_type: str) -> None:
         """Fanuc ``O1`` programs are called with M98, ``O1 sub`` subroutines with ``call``;
