@@ -25,9 +25,14 @@ REFERENCE = ROOT.parent / "shared" / "reference" / "polygon_shaft_thesis.mpf"
 
 def reference_or_skip() -> Path:
     """The published reference listing; skip when absent, but fail under CI=true."""
-    if REFERENCE.is_file():
-        return REFERENCE
-    msg = f"reference program not found at {REFERENCE}"
+    return shared_or_skip(REFERENCE, "reference program")
+
+
+def shared_or_skip(path: Path, what: str) -> Path:
+    """A file of ``../shared``; skip when absent, but fail under CI=true."""
+    if path.is_file():
+        return path
+    msg = f"{what} not found at {path}"
     if os.environ.get("CI", "").lower() == "true":
         pytest.fail(msg + " (CI=true: reference tests must run)")
     pytest.skip(msg)

@@ -460,12 +460,16 @@ class RunOptions:
     tool_data : ``(tool, D number) -> {"length": mm, "radius": mm, "type": int, "teeth": int}``
         (None for an offset the tool lacks), for the control's tool data (``$TC_DP``); None
         when no tool library was given.
+    dialect_options : settings only one dialect understands, by name (RS274/NGC:
+        ``tool_table``, ``ini``, ``var_file``, ``var_file_update``, ``continue_after_error``);
+        a dialect ignores the names it does not know.
     """
 
     max_blocks: int = tol.max_blocks
     max_call_depth: int = 16
     tool_radius: Callable[[str, int], float | None] | None = None
     tool_data: Callable[[str, int], Mapping[str, float] | None] | None = None
+    dialect_options: Mapping[str, Any] = field(default_factory=dict)
 
 
 class CommandList(list):

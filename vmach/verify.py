@@ -50,6 +50,8 @@ class VerifyOptions:
     dialect: str | None = None  # None: by the extension, or the machine's (interpreters.dialect_for)
     default_tool: str | None = None  # stand-in for tools the library lacks (vmach.tooling.default)
     progress: Any = None  # vmach.progress.Progress told of each phase (None: nothing shown)
+    #: a dialect's own settings (RunOptions.dialect_options: LinuxCNC tool table, INI, .var)
+    dialect_options: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -261,7 +263,8 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         static = dialect.check(str(program), control)     # verify reports all that check does
         result = dialect.run(str(program), control, RunOptions(
             max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None,
-            tool_data=library.data if library is not None else None))
+            tool_data=library.data if library is not None else None,
+            dialect_options=options.dialect_options))
         report.result = result
         report.findings.extend(coverage.merged(static, result.findings))
         report.stopped_at = coverage.stop_place(result)

@@ -17,13 +17,14 @@ from collections.abc import Callable
 from dataclasses import replace
 
 from interpreters.rs274ngc.checker import check_program
+from interpreters.rs274ngc.config import ngc_config, read_ini, read_var_file, save_var_file
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.interp import Interpreter
 from interpreters.rs274ngc.output import Output
 from interpreters.rs274ngc.state import OpenToolTable, default_tool_table, read_tool_table
 from vmach.canon import DEFAULT_CONTROL, ControlSpec, RunOptions, RunResult
 from vmach.errors import ProgramError
-from vmach.findings import Finding, error
+from vmach.findings import Finding, error, warning
 from vmach.source import SourceRef
 
 EXTENSIONS = (".ngc", ".nc", ".tap")
@@ -37,29 +38,55 @@ def _axes(control: ControlSpec) -> dict[str, float]:
 
 
 def _interpret(path, control, options, extra, trace: bool, commands: bool):
+    """Run ``path``. The settings of ``extra`` and ``options.dialect_options`` (extra wins):
+
+    tool_table : a LinuxCNC tool table (rs274 ``-t``).
+    block_delete : rs274 ``-b``.
+    ini : a LinuxCNC INI file (rs274 ``-i``), named by the user: its [RS274NGC] settings,
+        ``#<_ini[...]>`` and its SUBROUTINE_PATH directories (config.py).
+    var_file : a parameter file (rs274 ``-v``) read at the start; at the end the parameters
+        LinuxCNC would save are written to a copy, ``NAME.vmach.var`` beside it, or into the
+        file itself with ``var_file_update`` (the old one kept as ``NAME.var.bak``).
+    continue_after_error : rs274 ``-n 0``: report an error and go on.
+    """
     control = control or DEFAULT_CONTROL
     options = options or RunOptions()
-    extra = extra or {}
+    extra = {**options.dialect_options, **(extra or {})}
     out = Output(trace, commands, _axes(control))
     table = extra.get("tool_table")
     if table and options.tool_radius is not None:
         options = replace(options, tool_radius=None)   # a LinuxCNC tool table given: its diameters
     try:
+        config = ngc_config(read_ini(extra["ini"])) if extra.get("ini") else None
+        var_path = extra.get("var_file")
+        var_params = read_var_file(var_path) if var_path else None
         # rs274 prints its notes on the tool table before anything else
         tools = read_tool_table(table, out.lines if trace else None) if table else (
             default_tool_table() if options.tool_radius is None else OpenToolTable())
     except NgcError as exc:
-        f = error(exc.kind, exc.message, SourceRef(str(table), 1))
+        where = exc.fields.get("path", table)
+        f = error(exc.kind, exc.message, SourceRef(str(where), exc.fields.get("line", 1)))
         return out, RunResult([], [f], False, 0)
     interp = Interpreter(str(path), control, options, out, tools,
-                         block_delete=bool(extra.get("block_delete", False)))
+                         block_delete=bool(extra.get("block_delete", False)), config=config,
+                         var_params=var_params,
+                         continue_after_error=bool(extra.get("continue_after_error")))
     if not control.strict_axes:
         out.extra_axes = {"A", "B", "C"}
     try:
         completed, finding = interp.run()
     except ProgramError as exc:                # a file beyond vmach's size limits
         completed, finding = False, exc.finding
-    findings: list[Finding] = [] if finding is None else [finding]
+    findings: list[Finding] = []
+    if config is not None and config.remaps:
+        findings.append(warning("ini_remap_ignored", NgcError(
+            "ini_remap_ignored", count=len(config.remaps)).message, SourceRef(config.ini.path, 1)))
+    findings += interp.errors
+    if finding is not None:
+        findings.append(finding)
+    if var_path:
+        save_var_file(var_path, var_params or {}, interp.pars.num,
+                      bool(extra.get("var_file_update")))
     return out, RunResult(out.commands, findings, completed, interp.blocks)
 
 

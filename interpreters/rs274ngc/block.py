@@ -73,8 +73,10 @@ class Block:
         return -1 if v is None else int(v)
 
     def has_axis(self) -> bool:
+        """Axis or polar (``@`` radius, ``^`` angle) words."""
         w = self.words
-        return "x" in w or "y" in w or "z" in w or "a" in w or "b" in w or "c" in w
+        return ("x" in w or "y" in w or "z" in w or "a" in w or "b" in w or "c" in w
+                or "@" in w or "^" in w)
 
 
 def _col(line: Line, k: int, col: int) -> int:
@@ -114,6 +116,8 @@ def read_block(line: Line, ctx) -> Block:
             block.named.append((item[1], v))
     if line.error is not None:
         raise line.error
+    if "x" in block.words and ctx.s.diameter_mode:  # read_x in G7: a diameter
+        block.words["x"] /= 2
     return block
 
 
@@ -195,12 +199,24 @@ def _m_code(block: Block, v: float) -> None:
 # --------------------------------------------------------------------------------------------
 
 
-def enhance(block: Block, motion_mode: int) -> None:
+_LATHE_CYCLES = frozenset((700, 710, 711, 712, 720, 721, 722))
+
+
+def enhance(block: Block, motion_mode: int, plane: int = 170) -> None:
     """Decide the motion of the block and check axis words against it."""
     axis = block.has_axis()
     mode0 = block.g.get(0, -1)
     mode1 = block.g.get(1, -1)
     covets = mode0 in (100, 280, 300, 520, 920)
+    w = block.words
+    polar = "@" in w or "^" in w
+    if polar:
+        if plane != 170:
+            raise NgcError("polar_plane")
+        if "x" in w or "y" in w:
+            raise NgcError("polar_with_x" if "x" in w else "polar_with_y")
+        if mode0 == 920:
+            raise NgcError("polar_not_motion")
     if mode1 != -1:
         if mode1 == 800:
             if axis and not covets:
@@ -210,16 +226,18 @@ def enhance(block: Block, motion_mode: int) -> None:
         else:
             if covets:
                 raise NgcError("two_axis_g_codes")
-            if not axis and mode1 not in (0, 10, 20, 30, 52):
+            if not axis and mode1 not in (0, 10, 20, 30, 52) and mode1 not in _LATHE_CYCLES:
                 raise NgcError("axis_words_missing")
         block.motion = mode1
     elif covets:
         if not axis and mode0 in (520, 920):
             raise NgcError("axis_words_missing_g92")
     elif axis:
-        if motion_mode in (-1, 800):
+        dynamic = block.g.get(8) in (431, 432)  # G43.1/G43.2 take the axis words
+        if motion_mode in (-1, 800) and not dynamic:
             raise NgcError("axis_words_unused")
-        block.motion = motion_mode
+        if not dynamic:
+            block.motion = motion_mode
     elif motion_mode in (20, 30) and any(c in block.words for c in "ijk"):
         block.motion = motion_mode
 
@@ -262,28 +280,30 @@ def check(block: Block, distance_incremental: bool) -> None:
         raise NgcError("cycle_axis_b")
     if "c" in w and cycle:
         raise NgcError("cycle_axis_c")
-    if "d" in w and g.get(7) not in (410, 420, 411, 421) and g.get(14) != 960:
+    lathe = motion in _LATHE_CYCLES  # G70..G72.2: refused as unsupported when run
+    if "d" in w and g.get(7) not in (410, 420, 411, 421) and g.get(14) != 960 and not lathe:
         raise NgcError("unused_d")
-    if "e" in w and motion != 760 and block.m.get(5) not in (66, 67, 68):
+    if "e" in w and motion not in (760, 330, 331, 700) and block.m.get(5) not in (66, 67, 68):
         raise NgcError("unused_e")
     if "h" in w and g.get(8) not in (430, 432) and motion != 760:
         raise NgcError("unused_h")
     ijk_users = (20, 30, 50, 51, 760, 870)
-    if "i" in w and motion not in ijk_users and mode0 != 100:
+    if "i" in w and motion not in ijk_users and motion != 331 and mode0 != 100 and not (
+            lathe and motion != 700):
         raise NgcError("unused_i")
     if "j" in w and motion not in ijk_users and mode0 != 100:
         raise NgcError("unused_j")
     if "k" in w and motion not in (20, 30, 330, 331, 760, 870):
         raise NgcError("unused_k")
     if "l" in w and not (
-        810 <= motion <= 890 or motion in (760, 520, 730) or mode0 == 100
+        810 <= motion <= 890 or motion in (760, 52, 730) or mode0 == 100
         or g.get(7) in (410, 411, 420, 421) or block.m.get(5) == 66
     ):
         raise NgcError("unused_l")
     if "p" in w:
         if not (
             mode0 in (100, 40) or g.get(13) == 640
-            or motion in (760, 820, 860, 880, 890, 50, 520, 20, 30, 740, 840)
+            or motion in (760, 820, 860, 880, 890, 50, 52, 20, 30, 740, 840, 700)
             or block.m.get(9) in (50, 51, 52, 53) or block.m.get(5) in (62, 63, 64, 65, 66)
             or block.m.get(7) == 19 or block.user_m
         ):
@@ -291,16 +311,30 @@ def check(block: Block, distance_incremental: bool) -> None:
         p_value = int(math.floor(w["p"] + 0.5))
         if (motion in (20, 30) or block.m.get(7) == 19) and abs(p_value - w["p"]) > 0.001:
             raise NgcError("arc_p_integer")
+        if block.m.get(7) == 19 and not 0 <= p_value <= 2:
+            raise NgcError("m19_p_range")
         if motion in (20, 30) and p_value < 1:
             raise NgcError("arc_p_range")
     if block.q != -1.0 and not (
-        motion in (830, 730, 50, 760) or block.m.get(5) in (66, 67, 68)
+        motion in (830, 730, 50, 760) or lathe or block.m.get(5) in (66, 67, 68)
         or mode0 == 100 or block.m.get(6) == 61 or g.get(13) == 640 or block.m.get(7) == 19
         or block.user_m
     ):
         raise NgcError("unused_q")
     if "r" in w and not (
-        motion in (20, 30, 760, 730, 740) or 810 <= motion <= 890
+        motion in (20, 30, 760, 730, 740) or 810 <= motion <= 890 or (lathe and motion != 700)
         or g.get(7) in (411, 421) or mode0 == 100 or block.m.get(7) == 19
     ):
         raise NgcError("unused_r")
+    if "r" in w and block.m.get(7) == 19 and not 0.0 <= w["r"] <= 360.0:
+        raise NgcError("m19_r_range")
+    if motion in (330, 331):
+        if "k" not in w:
+            raise NgcError("g33_k_missing")
+        if "f" in w:
+            raise NgcError("g33_f_used")
+    elif motion == 760:
+        if block.p == -1.0:
+            raise NgcError("g76_p_missing")
+        if "i" not in w or "j" not in w or "k" not in w:
+            raise NgcError("g76_ijk_missing")

@@ -107,10 +107,11 @@ def _check_structure(prog: Program, directory: Path) -> list[Finding]:
         kind, name = o.kind, o.name
         if kind == "sub":
             defined.add(name)
-        if kind == "program":
-            continue
+        if kind in ("program", "m98", "m99"):
+            continue  # Fanuc-style: found when run (M98 P may be computed)
         if kind == "call":
-            calls.append((name, i, o.col))
+            if name:  # else a number computed from parameters (o#1 call)
+                calls.append((name, i, o.col))
             continue
         if kind in ("return", "break", "continue", "else", "elseif"):
             opener = next((k for k, n, _ in reversed(stack) if n == name), None)

@@ -1,4 +1,5 @@
-"""Canned cycles G73 G81 G82 G83 G85 G86 G89 (interp_cycles.cc).
+# ruff: noqa: UP031  (printf formats mirror LinuxCNC's C printf calls)
+"""Canned cycles G73 G74 G81 G82 G83 G84 G85 G86 G89 (interp_cycles.cc).
 
 In the selected plane the cycle positions at (aa, bb) and drills along the third axis cc:
 XY plane aa=X bb=Y cc=Z, XZ plane aa=Z bb=X cc=Y, YZ plane aa=Y bb=Z cc=X. R is the retract
@@ -10,10 +11,14 @@ and restore the previous motion control mode afterwards.
 
 from __future__ import annotations
 
+import math
+
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.diag import NgcError
+from interpreters.rs274ngc.motion import polar_step
 
 G83_RAPID_DELTA_INCH = 0.010
+_D2R = math.pi / 180.0
 
 # plane -> (aa, bb, cc) indices into x y z, depth letter, plane name in messages
 _PLANES = {
@@ -68,15 +73,22 @@ class CycleMixin:
             old_cc = s.cycle_il
         else:
             old_cc = s.cycle_il = current_cc
+        inc_r = inc_t = 0.0  # polar increments (G17 only: enhance refuses other planes)
         if not s.incremental:
             inc_a = inc_b = 0.0
             r = r_number
             cc = depth_word
             aa = w.get(letters[ia], pos[ia])
             bb = w.get(letters[ib], pos[ib])
+            if "@" in w or "^" in w:
+                radius = w["@"] if "@" in w else math.hypot(pos[1], pos[0])
+                theta = w["^"] * _D2R if "^" in w else math.atan2(pos[1], pos[0])
+                aa, bb = radius * math.cos(theta), radius * math.sin(theta)
         else:
             inc_a = w.get(letters[ia], 0.0)
             inc_b = w.get(letters[ib], 0.0)
+            inc_r = w.get("@", 0.0)
+            inc_t = w.get("^", 0.0) * _D2R
             r = r_number + old_cc
             cc = r + depth_word
             aa = pos[ia]
@@ -95,7 +107,9 @@ class CycleMixin:
             out.set_motion_control_mode("exact_path")
 
         dwell = q = 0.0
-        if motion in (820, 860, 890):
+        if motion in (740, 840):  # tapping: P is optional (the last one, else 0)
+            dwell = s.cycle["p"] if block.p == -1.0 else block.p
+        elif motion in (820, 860, 890):
             if s.motion != motion and block.p == -1.0:
                 raise NgcError("cycle_dwell_missing", code=motion // 10)
             dwell = s.cycle["p"] if block.p == -1.0 else block.p
@@ -119,6 +133,8 @@ class CycleMixin:
                 self._count_block()     # L1000000000 filled the memory
             aa += inc_a
             bb += inc_b
+            if inc_r or inc_t:
+                aa, bb = polar_step(aa, bb, inc_r, inc_t, "polar_at_origin")
             if repeat == repeats and current_cc > r:
                 move(aa, bb, current_cc, True)
                 move(aa, bb, r, True)
@@ -128,7 +144,7 @@ class CycleMixin:
                     move(aa, bb, r, True)
             self._cycle_body(motion, move, aa, bb, r, clear, cc, dwell, q)
 
-        if motion in (820, 860, 890):
+        if motion in (740, 820, 840, 860, 890):
             s.cycle["p"] = dwell
         elif motion in (730, 830):
             s.cycle["q"] = q
@@ -188,3 +204,40 @@ class CycleMixin:
             move(aa, bb, bottom, False)
             out.dwell(dwell)
             move(aa, bb, clear, False)
+        elif motion in (740, 840):
+            self._tap(motion, move, aa, bb, clear, bottom, dwell)
+
+    def _tap(self, motion, move, aa, bb, clear, bottom, dwell) -> None:
+        """G84 (right hand, spindle clockwise) and G74 (left hand) floating-chuck tapping:
+        feed in with the overrides off, reverse the spindle, dwell, feed out, restore."""
+        s = self.s
+        out = self.out
+        code = "G%d" % (motion // 10)
+        if s.spindle == "stop":
+            raise NgcError("tap_spindle_stopped", code=code)
+        forward = "cw" if motion == 840 else "ccw"
+        if s.spindle != forward:
+            raise NgcError("tap_spindle_direction", code=code,
+                           direction="clockwise" if s.spindle == "cw" else "counterclockwise")
+        reverse = "ccw" if forward == "cw" else "cw"
+        feed_override, speed_override = s.feed_override, s.speed_override
+        if out.trace:
+            out._p("DISABLE_FEED_OVERRIDE()")
+            out._p("DISABLE_SPEED_OVERRIDE(0)")
+        # LinuxCNC passes the XZ and YZ points to its plane-mapping feed in another order
+        # (interp_cycles.cc convert_cycle_g74_g84), so the axes of those planes come out
+        # permuted: kept, since rs274 and the machine move so
+        order = {170: lambda c: (aa, bb, c), 180: lambda c: (bb, c, aa),
+                 190: lambda c: (c, aa, bb)}[s.plane]
+        move(*order(bottom), False)
+        out.spindle("stop")
+        out.spindle(reverse)
+        out.dwell(dwell)
+        move(*order(clear), False)
+        out.spindle("stop")
+        out.spindle(forward)
+        if out.trace:
+            if feed_override:
+                out._p("ENABLE_FEED_OVERRIDE()")
+            if speed_override:
+                out._p("ENABLE_SPEED_OVERRIDE(0)")

@@ -17,9 +17,11 @@ from interpreters.rs274ngc.state import rotate
 END = 1
 
 
-def _num(v: float) -> str:
-    """A parameter in a DEBUG/PRINT/LOG text: ``%lf`` into LinuxCNC's 30-byte buffer."""
-    text = "%f" % (0.0 if abs(v) < 0.0001 else v)
+
+def _num(v: float, fmt: str = "%f") -> str:
+    """A parameter in a DEBUG/PRINT/LOG text: ``%lf`` (or the format a ``%d``, ``%f`` or
+    ``%.Nf`` before it chose) into LinuxCNC's 30-byte buffer."""
+    text = fmt % (0.0 if abs(v) < 0.0001 else v)
     return text if len(text) < 30 else "######"
 
 
@@ -97,12 +99,34 @@ class ExecuteMixin:
             out.comment(comment[start:], program=True)
 
     def expand_parameters(self, text: str) -> str:
-        """convert_param_comment: ``#5`` and ``#<name>`` replaced by ``%lf`` values."""
+        """convert_param_comment: ``#5`` and ``#<name>`` replaced by their values, ``%lf``
+        until ``%d`` (``%.0f``), ``%f`` (``%.4f``) or ``%.Nf`` chooses another format for the
+        rest of the text; those format words are not printed."""
         out = []
         i = 0
         n = len(text)
+        fmt = "%f"
         while i < n:
             ch = text[i]
+            if ch == "%":
+                i += 1
+                nxt = text[i] if i < n else ""
+                if nxt == "d":
+                    fmt = "%.0f"
+                    i += 1
+                elif nxt == "f":
+                    fmt = "%.4f"
+                    i += 1
+                elif nxt == ".":
+                    i += 1
+                    if i + 1 < n and text[i].isdigit() and text[i + 1] == "f":
+                        fmt = "%." + text[i] + "f"
+                        i += 2
+                    else:
+                        out.append(".")
+                else:
+                    out.append("%")
+                continue
             if ch != "#":
                 out.append(ch)
                 i += 1
@@ -117,7 +141,7 @@ class ExecuteMixin:
                 index = int(text[i:j])
                 i = j
                 if 0 <= index < 5602:
-                    out.append(_num(self.par(index) if index else 0.0))
+                    out.append(_num(self.par(index) if index else 0.0, fmt))
                 else:
                     out.append("######")
             elif text[i] == "<":
@@ -131,7 +155,7 @@ class ExecuteMixin:
                     raise NgcError("named_parameter_unterminated")
                 i += 1
                 v = self.named_value("".join(name))
-                out.append("######" if v is None else _num(v))
+                out.append("######" if v is None else _num(v, fmt))
             else:
                 out.append("#")
         return "".join(out)
@@ -162,6 +186,9 @@ class ExecuteMixin:
         m = block.m
         s = self.s
         out = self.out
+        code = m.get(5)
+        if code is not None:
+            self.convert_io(code, block)
         code = m.get(6)
         if code == 6:
             self.convert_tool_change()
@@ -177,6 +204,10 @@ class ExecuteMixin:
         elif code == 5:
             out.spindle("stop")
             s.spindle = "stop"
+        elif code == 19:
+            self.convert_orient(block)
+        elif code is not None and code >= 70:
+            self.convert_context(code)
         code = m.get(8)
         if code == 7:
             out.coolant(mist=True)
@@ -219,6 +250,9 @@ class ExecuteMixin:
         code = g.get(6)
         if code is not None:
             self.convert_length_units(code == 210)
+        code = g.get(15)
+        if code is not None:
+            self.convert_diameter_mode(code == 70, block)
         code = g.get(7)
         if code is not None:
             self.convert_cutter_compensation(code, block)
@@ -265,6 +299,24 @@ class ExecuteMixin:
         if block.motion != -1:
             self.convert_motion(block.motion, block)
 
+    def convert_diameter_mode(self, diameter: bool, block: blk.Block) -> None:
+        """G7 (X words are diameters) and G8 (radii): the block's X, read in the old mode,
+        is rescaled, as are G76's I J K (convert_lathe_diameter_mode)."""
+        s = self.s
+        if diameter == s.diameter_mode:
+            return
+        f = 0.5 if diameter else 2.0
+        self.out.comment("interpreter: Lathe diameter mode changed to "
+                         + ("diameter" if diameter else "radius"))
+        w = block.words
+        if "x" in w:
+            w["x"] *= f
+        if block.motion == 760:
+            for letter in "ijk":
+                if letter in w:
+                    w[letter] *= f
+        s.diameter_mode = diameter
+
     def convert_control_mode(self, code: int, block: blk.Block) -> None:
         s = self.s
         out = self.out
@@ -278,13 +330,10 @@ class ExecuteMixin:
             s.control = "exact_stop"
         else:
             p, q = block.p, block.q
-            out.set_motion_control_mode("continuous", p if p >= 0 else 0.0)
-            if q >= 0:
-                out.set_naivecam_tolerance(q)
-            elif p >= 0:
-                out.set_naivecam_tolerance(p)
-            else:
-                out.set_naivecam_tolerance(0.0)
+            s.tolerance = p if p >= 0 else 0.0
+            out.set_motion_control_mode("continuous", s.tolerance)
+            s.naivecam = q if q >= 0 else s.tolerance
+            out.set_naivecam_tolerance(s.naivecam)
             s.control = "continuous"
 
     def convert_length_units(self, metric: bool) -> None:

@@ -102,7 +102,8 @@ class FastPathMixin:
         minute. Same effect as :meth:`step`; returns False, before doing anything, when the
         block or the state needs the general path."""
         s = self.s
-        if s.feed_mode or s.incremental or s.toolchange_flag or s.comp_side or s.arc_not_allowed:
+        if (s.feed_mode or s.incremental or s.toolchange_flag or s.comp_side or s.arc_not_allowed
+                or s.diameter_mode):
             return False
         motion, words = fast
         if self.strict and not self.known_words.issuperset(words):
@@ -172,6 +173,8 @@ class FastPathMixin:
 
     def _simple_execute(self, block, motion: int, words: dict) -> bool:
         s = self.s
+        if s.diameter_mode:  # X words are diameters: read_block halves them
+            return False
         if motion == -1 and len(words) > ("f" in words):
             motion = s.motion
             if motion == -1 or motion == 800:
@@ -210,7 +213,7 @@ class FastPathMixin:
         s = self.s
         out = self.out
         if (s.feed_mode or s.incremental or s.toolchange_flag or out.spindle_dirty or s.comp_side
-                or s.arc_not_allowed):
+                or s.arc_not_allowed or s.diameter_mode):
             return 0
         # axes a strict machine does not have: such a line is left to the general path
         known = self.known_words if self.strict else "xyzabc"

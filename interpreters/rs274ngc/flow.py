@@ -28,8 +28,9 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from interpreters.rs274ngc.context import RESTORE_ON_RETURN, VALID
 from interpreters.rs274ngc.diag import NgcError
-from interpreters.rs274ngc.expr import evaluate
+from interpreters.rs274ngc.expr import evaluate, to_integer
 from interpreters.rs274ngc.lexer import n_label
 from vmach.files import leads_outside
 
@@ -37,19 +38,27 @@ _SAFE_NAME = re.compile(r"[a-z0-9_][a-z0-9_.\-]*")
 #: LinuxCNC runs the main program and at most 9 nested calls (INTERP_SUB_ROUTINE_LEVELS)
 MAX_CALL_LEVELS = 10
 _CONDITIONS = frozenset(("if", "elseif", "while", "repeat"))
-_GLOBAL = frozenset(("sub", "endsub", "call", "return", "program"))
+_GLOBAL = frozenset(("sub", "endsub", "call", "return", "program", "m98", "m99"))
+_SUB_LINES = ("sub", "program")
 
 
 class Frame:
-    """One call level: where to continue after the return, the sub's name, saved #1..#30."""
+    """One call level: where to continue after the return, the sub's name, saved #1..#30
+    (None for an M98 call, whose #1..#30 are the caller's), how it was called ("call",
+    "m98" or "" for the main program) and the repeats left of an ``M98 … L`` it runs."""
 
-    __slots__ = ("prog", "pc", "name", "saved")
+    __slots__ = ("prog", "pc", "name", "saved", "call_type", "m98_count", "context",
+                 "context_status")
 
-    def __init__(self, prog=None, pc=0, name="", saved=None):
+    def __init__(self, prog=None, pc=0, name="", saved=None, call_type=""):
         self.prog = prog
         self.pc = pc
         self.name = name
         self.saved = saved
+        self.call_type = call_type
+        self.m98_count = -1
+        self.context = None  # the modal state M70/M73 saved (context.py)
+        self.context_status = 0  # context.VALID | context.RESTORE_ON_RETURN
 
 
 class Label:
@@ -80,13 +89,26 @@ class FlowMixin:
         self.executed_if = False
         self.doing_break = False
         self.doing_continue = False
+        #: LinuxCNC's [RS274NGC]DISABLE_FANUC_STYLE_SUB (M98, M99 and bare O-numbers refused)
+        self.fanuc_disabled = False
+
+    def o_name(self, o) -> str:
+        """The label of an O-line: as written, or the number computed when the line is read
+        (``o#1 call``, ``o[#2*10] call``, M98's P word); M99 returns from the running sub."""
+        if o.name_value is None:
+            if o.kind == "m99":
+                return self.frames[-1].name
+            return o.name
+        v = self._read_value(o.name_value, self.defining is not None)
+        return str(to_integer(v) if o.kind == "m98" else int(v))
 
     def qualified(self, o) -> str:
+        name = self.o_name(o) if o.dynamic else o.name
         if o.kind in _GLOBAL:
-            return o.name
+            return name
         if len(self.frames) > 1:
-            return self.frames[-1].name + "#" + o.name
-        return (self.defining or "") + "#" + o.name
+            return self.frames[-1].name + "#" + name
+        return (self.defining or "") + "#" + name
 
     # -- reading and dispatch -------------------------------------------------------------------
 
@@ -138,8 +160,10 @@ class FlowMixin:
             kind = o.kind
             if defining and (kind == "sub" or kind == "program"):
                 raise NgcError("nested_sub_definition", o.col)
+            if kind == "m99" and len(self.frames) == 1:
+                continue  # M99 in the main program is a stop, not an O-line
             name = self.qualified(o)
-            if name != self.skipping or kind == "call":
+            if name != self.skipping or kind == "call" or kind == "m98":
                 continue
             if kind in _CONDITIONS or kind == "endsub" or kind == "return":
                 if defining and kind in _CONDITIONS:
@@ -218,7 +242,8 @@ class FlowMixin:
 
     def o_program(self, line, o, name):
         """A bare program number (O1000): LinuxCNC goes on, unless in an O-word call."""
-        if len(self.frames) > 1:
+        self._fanuc_allowed(o)
+        if len(self.frames) > 1 and self.frames[-1].call_type != "m98":
             raise NgcError("fanuc_sub_not_m98", o.col)
         return None
 
@@ -226,37 +251,83 @@ class FlowMixin:
         args = self.call_args
         if len(self.frames) >= min(self.options.max_call_depth, MAX_CALL_LEVELS):
             raise NgcError("call_depth", o.col)
-        prog, index = self.find_sub(line, o)
+        prog, index = self.find_sub(line, o, name)
+        self._check_sub_style(prog, index, "call")
         saved = self.pars.num[1:31]
         num = self.pars.num
         for i in range(30):
             num[1 + i] = args[i] if i < len(args) else 0.0
-        self.frames.append(Frame(self.prog, self.pc, name, saved))
+        self.frames.append(Frame(self.prog, self.pc, name, saved, "call"))
         self.pars.locals.append({})
         self.prog = prog
         self.pc = index + 1
 
-    def find_sub(self, line, o):
-        name = o.name
+    def o_m98(self, line, o, name):
+        """``M98 P… [L…]`` (interp_o_word.cc execute_call): #1..#30 stay the caller's; with
+        L the M98 line is returned to until its count (kept in the caller's frame) runs
+        out; ``L0`` enters the call level without running the sub, as LinuxCNC does."""
+        self._fanuc_allowed(o)
+        if len(self.frames) >= min(self.options.max_call_depth, MAX_CALL_LEVELS):
+            raise NgcError("call_depth", o.col)
+        caller = self.frames[-1]
+        back = self.pc
+        count = None
+        if o.loop is not None:
+            count = evaluate(o.loop, self)
+            if caller.m98_count == -1:
+                caller.m98_count = int(count + 0.5) if count >= 0 else int(count - 0.5)
+            caller.m98_count -= 1
+            if caller.m98_count > 0:
+                back = self.index  # read the M98 line again for the next repeat
+            else:
+                caller.m98_count = -1
+        frame = Frame(self.prog, back, name, None, "m98")
+        if count == 0.0:
+            self.frames.append(frame)
+            self.pars.locals.append({})
+            return
+        prog, index = self.find_sub(line, o, name)
+        self._check_sub_style(prog, index, "m98")
+        self.frames.append(frame)
+        self.pars.locals.append({})
+        self.prog = prog
+        self.pc = index + 1
+
+    def o_m99(self, line, o, name):
+        self._fanuc_allowed(o)
+        return self._return(line, o)
+
+    def _fanuc_allowed(self, o) -> None:
+        """[RS274NGC]DISABLE_FANUC_STYLE_SUB refuses M98, M99 and bare O-numbers."""
+        if self.fanuc_disabled:
+            raise NgcError("fanuc_disabled_" + o.kind)
+
+    def _check_sub_style(self, prog, index: int, call_type: str) -> None:
+        """Fanuc ``O1`` programs are called with M98, ``O1 sub`` subroutines with ``call``;
+        LinuxCNC reports a mix at the sub's line."""
+        kind = prog.line(index).o.kind
+        if (kind == "program") != (call_type == "m98"):
+            self.prog, self.index = prog, index
+            self.line = prog.line(index)
+            raise NgcError("fanuc_sub_not_m98" if kind == "program" else "sub_not_o_call")
+
+    def find_sub(self, line, o, name: str):
+        """Where the subroutine ``name`` starts: (Program, index of its sub line)."""
         known = self.subs.get(name)
         if known is not None:
             return known
-        if not _SAFE_NAME.fullmatch(name) or ".." in name:
-            raise NgcError("subprogram_outside", o.col, name=name)
-        path = self.directory / f"{name}.ngc"
-        if leads_outside(path, self.directory):  # a link out of the directory: never opened
-            raise NgcError("subprogram_outside", o.col, name=name)
-        if path.is_file():
+        found = self.sub_file(name, o.col)
+        if found is not None:
+            path, shown = found
             key = str(path)
             prog = self.programs.get(key)
             if prog is None:
                 from interpreters.rs274ngc.interp import load_program
 
-                shown = str(Path(self.path).parent / f"{name}.ngc")
                 prog = self.programs[key] = load_program(shown)
             for i in range(len(prog.raw)):
                 ln = prog.line(i)
-                if ln.o is not None and ln.o.kind == "sub" and ln.o.name == name:
+                if ln.o is not None and ln.o.kind in _SUB_LINES and ln.o.name == name:
                     self.subs[name] = (prog, i)
                     return prog, i
         # search further down the current file
@@ -269,6 +340,27 @@ class FlowMixin:
         self.prog, self.pc, self.index = here_prog, here_pc, here_index
         self.line = line
         return found
+
+    def sub_file(self, name: str, col: int = 0) -> tuple[Path, str] | None:
+        """The file ``name.ngc`` a call of a subroutine not yet defined reads, as (path, the
+        path findings show), or None. The one place subroutine files are resolved: the main
+        program's directory, then the SUBROUTINE_PATH directories of an INI file the user
+        named (``--ini``); never elsewhere. A name with a path separator or ``..``, or a file
+        there that is a link (or a chain of links) leading out of its directory, is refused
+        (``subprogram_outside``) and never opened."""
+        if not _SAFE_NAME.fullmatch(name) or ".." in name:
+            raise NgcError("subprogram_outside", col, name=name)
+        dirs = [self.directory]
+        if self.config is not None:
+            dirs += [d for d in self.config.subroutine_dirs if d != self.directory]
+        for d in dirs:
+            path = d / f"{name}.ngc"
+            if leads_outside(path, d):
+                raise NgcError("subprogram_outside", col, name=name)
+            if path.is_file():
+                shown = Path(self.path).parent / path.name if d == self.directory else path
+                return path, str(shown)
+        return None
 
     def _seek_sub(self, name: str) -> None:
         prog = self.prog
@@ -287,7 +379,7 @@ class FlowMixin:
             if line.o_error:
                 raise line.error
             o = line.o
-            if o is not None and o.kind == "sub" and o.name == name:
+            if o is not None and o.kind in _SUB_LINES and self.o_name(o) == name:
                 self.pc = pc
                 return
         self.pc = pc
@@ -308,9 +400,17 @@ class FlowMixin:
                 self.skipping = None
             return None
         value = None if o.value is None else self.test_value
+        call_type = self.frames[-1].call_type
+        if call_type == "m98" and o.kind != "m99":
+            raise NgcError("fanuc_sub_not_m99")
+        if call_type == "call" and o.kind == "m99":
+            raise NgcError("sub_not_endsub")
         frame = self.frames.pop()
         self.pars.locals.pop()
-        self.pars.num[1:31] = frame.saved
+        if frame.saved is not None:
+            self.pars.num[1:31] = frame.saved
+        if frame.context_status == VALID | RESTORE_ON_RETURN:  # M73
+            self.restore_context(frame.context)
         g = self.pars.globals
         g["_value"] = 0.0 if value is None else value
         g["_value_returned"] = 0.0 if value is None else 1.0

@@ -15,16 +15,21 @@ from pathlib import Path
 
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.comp import CompMixin
+from interpreters.rs274ngc.config import NgcConfig
+from interpreters.rs274ngc.context import ContextMixin
 from interpreters.rs274ngc.cycles import CycleMixin
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.execute import ExecuteMixin
 from interpreters.rs274ngc.fastpath import FastPathMixin
 from interpreters.rs274ngc.flow import FlowMixin
 from interpreters.rs274ngc.lexer import Line, n_label, parse_line
+from interpreters.rs274ngc.mcodes import MCodeMixin
 from interpreters.rs274ngc.motion import MotionMixin
 from interpreters.rs274ngc.offsets import OffsetMixin
 from interpreters.rs274ngc.output import Output
-from interpreters.rs274ngc.state import Params, Settings, ToolTable
+from interpreters.rs274ngc.splines import SplineMixin
+from interpreters.rs274ngc.state import Params, Settings, ToolTable, rotate
+from interpreters.rs274ngc.threading import ThreadingMixin
 from vmach.canon import ControlSpec, RunOptions
 from vmach.errors import InputError
 from vmach.files import read_program_bytes
@@ -32,6 +37,9 @@ from vmach.findings import Finding, error
 from vmach.source import SourceRef
 
 END = 1
+#: errors after which even rs274 -n 0 cannot go on
+_FATAL = frozenset(("block_limit", "unreadable", "file_ended", "file_ended_percent",
+                    "seeking_o_word", "percent_while_skipping"))
 MAX_LINE = 254  # LinuxCNC reads lines with fgets into LINELEN = 255 bytes
 
 
@@ -89,7 +97,7 @@ def load_program(path: str) -> Program:
 
 
 class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin, CycleMixin,
-                  OffsetMixin):
+                  OffsetMixin, ContextMixin, ThreadingMixin, SplineMixin, MCodeMixin):
     """One run of one program."""
 
     #: take the fast paths (:mod:`interpreters.rs274ngc.fastpath`); False runs every line
@@ -97,7 +105,8 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
     fast_paths = True
 
     def __init__(self, path: str, control: ControlSpec, options: RunOptions, out: Output,
-                 tools: ToolTable, block_delete: bool = False):
+                 tools: ToolTable, block_delete: bool = False, config: NgcConfig | None = None,
+                 var_params: dict[int, float] | None = None, continue_after_error: bool = False):
         self.path = str(path)
         self.directory = Path(path).resolve().parent
         self.spec = control
@@ -124,6 +133,16 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
         self.comp_endpoint_valid = False
         self.comp_stale_front = None  # what qc().front() reads once the queue is empty
         self.init_flow()
+        #: the INI file's settings (``vmach run --ini``), None without one
+        self.config = config
+        #: parameters from a ``.var`` file (``--var-file``), None without one
+        self.var_params = var_params
+        #: rs274 ``-n 0``: an error is reported and the run goes on after the top-level call
+        self.continue_after_error = continue_after_error
+        #: the errors a run that goes on after errors met
+        self.errors: list[Finding] = []
+        self.readonly_named: set[str] = set()
+        self.nurbs_points: list[tuple[float, float, float]] = []  # G5.2's control points
 
     # -- evaluation context (see expr.py) ----------------------------------------------------
 
@@ -162,19 +181,56 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
             if name in self.pars.globals:
                 return self.pars.globals[name]
             fn = PREDEFINED.get(name)
-            return None if fn is None else float(fn(self))
+            if fn is None:
+                return self.ini_value(name) if name.startswith("_ini[") else None
+            return float(fn(self))
         return self.pars.locals[-1].get(name)
 
     # -- running -----------------------------------------------------------------------------
 
     def preamble(self) -> None:
-        """Interp::init as rs274 calls it (5 canonical calls)."""
+        """Interp::init as rs274 calls it (5 canonical calls), after reading the INI file's
+        settings and the parameter file (config.py)."""
         out = self.out
         out.use_length_units(True)
-        out.set_g5x_offset(1, [0.0] * 6)
-        out.set_g92_offset([0.0] * 6)
-        out.set_xy_rotation(0.0)
+        self.configure()
+        s = self.s
+        out.set_g5x_offset(s.origin_index, s.origin)
+        out.set_g92_offset(s.axis_offset)
+        out.set_xy_rotation(s.rotation)
         out.set_feed_reference()
+        s.pos = list(out.ppos)
+
+    def configure(self) -> None:
+        """The INI file's [RS274NGC] settings, then the parameters of the .var file: the
+        coordinate system in use (#5220), its offsets and rotation, and the G92 offsets when
+        applied (#5210) and persistence is not disabled."""
+        cfg = self.config
+        s = self.s
+        num = self.pars.num
+        if cfg is not None:
+            s.orient_offset = cfg.orient_offset
+            self.fanuc_disabled = cfg.disable_fanuc_style_sub
+        if self.var_params is None:
+            return
+        for i in range(1, len(num)):
+            num[i] = self.var_params.get(i, 0.0)
+        index = int(num[5220] + 0.0001)
+        if not 1 <= index <= 9:
+            index = 1
+            num[5220] = 1.0
+        if cfg is not None and cfg.disable_g92_persistence:
+            for i in range(5210, 5220):
+                num[i] = 0.0
+        num[5599] = 1.0
+        base = 5200 + 20 * index
+        s.origin_index = index
+        s.origin = [s.u2p(num[base + 1]), s.u2p(num[base + 2]), s.u2p(num[base + 3]),
+                    num[base + 4], num[base + 5], num[base + 6]]
+        if num[5210]:
+            s.axis_offset = [s.u2p(num[5211]), s.u2p(num[5212]), s.u2p(num[5213]),
+                             num[5214], num[5215], num[5216]]
+        s.rotation = num[base + 10]
 
     def open(self) -> None:
         """Interp::open: load the main file; a first non-blank line ``%`` is percent mode."""
@@ -206,20 +262,44 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
         collecting = gc.isenabled()
         gc.disable()  # a run allocates many long-lived commands: collecting only slows it
         try:
-            self.main_loop()
-        except NgcError as exc:
-            finding = self.finding(exc)
-            completed = False
-        except RecursionError:
-            finding = self.finding(NgcError("call_depth"))
-            completed = False
+            while True:
+                try:
+                    self.main_loop()
+                    break
+                except NgcError as exc:
+                    finding = self.finding(exc)
+                except RecursionError:
+                    finding = self.finding(NgcError("call_depth"))
+                if not self.continue_after_error or finding.kind in _FATAL:
+                    completed = False
+                    break
+                self.errors.append(finding)
+                finding = None
+                self.unwind()
         finally:
             if collecting:
                 gc.enable()
         self.out.nlabel = "N..... "
-        self.out.simple("ON_RESET")
+        if self.config is None:  # with an INI file LinuxCNC closes lazily: one reset less
+            self.out.simple("ON_RESET")
         self.out.simple("ON_RESET")
         return completed, finding
+
+    def unwind(self) -> None:
+        """Interp::unwind_call after an error: back to the main program after its top-level
+        call, #1..#30 restored, the label table and any skipping dropped."""
+        frames = self.frames
+        while len(frames) > 1:
+            frame = frames.pop()
+            self.pars.locals.pop()
+            if frame.saved is not None:
+                self.pars.num[1:31] = frame.saved
+            self.prog, self.pc = frame.prog, frame.pc
+        self.subs.clear()
+        self.labels.clear()
+        self.defining = self.skipping = self.seeking = None
+        self.is_defining = self.doing_break = self.doing_continue = False
+        self.out.queue = []
 
     def main_loop(self) -> None:
         limit = self.options.max_blocks
@@ -287,13 +367,15 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
         if line.o is not None or (line.error is not None and not line.items):
             if line.o is None:
                 raise line.error
-            return self.control(line)
+            o = line.o
+            if not o.dynamic or o.kind != "m99" or len(self.frames) > 1:
+                return self.control(line)
         if line.simple and self.fast_paths and self.simple_step(line):
             return None
         if line.assign and self.fast_paths:
             return self.assign(line)
         block = blk.read_block(line, self)
-        blk.enhance(block, s.motion)
+        blk.enhance(block, s.motion, s.plane)
         blk.check(block, s.incremental)
         if self.strict:
             self.check_axes(block)
@@ -309,8 +391,22 @@ class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin
             if letter in block.words and letter.upper() not in self.known_axes:
                 raise NgcError("unknown_axis", axis=letter.upper())
 
+    def ini_value(self, name: str) -> float | None:
+        """``#<_ini[section]key>``: the INI file's number, then a read-only global
+        (interp_namedparams.cc fetch_ini_param); None without an INI file or that key."""
+        cfg = self.config
+        close = name.find("]", 6)
+        if cfg is None or not cfg.features["INI_VARS"] or len(name) < 8 or close < 0:
+            return None
+        v = cfg.ini.number(name[5:close], name[close + 1:])
+        if v is not None:
+            self.pars.globals[name] = v
+            self.readonly_named.add(name)
+        return v
+
     def store_named(self, name: str, value: float) -> None:
-        if name in PREDEFINED and name not in ("_value", "_value_returned"):
+        if name in self.readonly_named or (
+                name in PREDEFINED and name not in ("_value", "_value_returned")):
             raise NgcError("named_parameter_readonly", name=name)
         self.pars.store_named(name, value)
 
@@ -332,6 +428,21 @@ def _nlabel(line: Line) -> str:
 def _pocket(it, index: int) -> float:
     """The pocket (P of the tool table) of a tool table index; -1 for none."""
     return it.tools.entry(index).pocket if index > 0 else -1
+
+
+def _abs(axis: int):
+    """#<_abs_x>..#<_abs_c>: the position in machine coordinates, in program units
+    (interp_namedparams.cc NP_ABS_X..)."""
+
+    def value(it) -> float:
+        s = it.s
+        p = s.pos[axis] + s.axis_offset[axis]
+        if axis < 2:
+            x, y = rotate(s.pos[0] + s.axis_offset[0], s.pos[1] + s.axis_offset[1], s.rotation)
+            p = x if axis == 0 else y
+        return p + s.origin[axis] + s.tool_offset[axis]
+
+    return value
 
 
 def _coord_system(it) -> float:
@@ -360,8 +471,8 @@ PREDEFINED = {
     "_spindle_rpm_mode": lambda it: 1,
     "_spindle_css_mode": lambda it: 0,
     "_ijk_absolute_mode": lambda it: it.s.ijk_absolute,
-    "_lathe_diameter_mode": lambda it: 0,
-    "_lathe_radius_mode": lambda it: 1,
+    "_lathe_diameter_mode": lambda it: it.s.diameter_mode,
+    "_lathe_radius_mode": lambda it: not it.s.diameter_mode,
     "_spindle_on": lambda it: it.s.spindle != "stop",
     "_spindle_cw": lambda it: it.s.spindle == "cw",
     "_mist": lambda it: it.s.mist,
@@ -378,6 +489,7 @@ PREDEFINED = {
     "_a": lambda it: it.s.pos[3],
     "_b": lambda it: it.s.pos[4],
     "_c": lambda it: it.s.pos[5],
+    **{"_abs_" + "xyzabc"[i]: _abs(i) for i in range(6)},
     "_current_tool": lambda it: it.tools.spindle.number,
     "_current_pocket": lambda it: _pocket(it, it.s.current_pocket),
     "_selected_tool": lambda it: it.s.selected_tool,

@@ -31,6 +31,8 @@ _REDUCE = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxy
 _SIMPLE = re.compile(r"(?:[a-mp-txyz][+-]?(?:\d+\.?\d*|\.\d+))+")
 _SIMPLE_WORD = re.compile(r"([a-z])([+-]?(?:\d+\.?\d*|\.\d+))")
 _DIGITS = re.compile(r"\d*")
+#: a line starting with M98 or M99 (LinuxCNC reads it as an O-line: read_items)
+_FANUC = re.compile(r"m0*9[89](?:\.0*)?(?![0-9.])")
 
 
 class OLine:
@@ -44,7 +46,7 @@ class OLine:
     """
 
     __slots__ = ("kind", "name", "col", "args", "value", "comment", "value_error",
-                 "trailing_error", "handler")
+                 "trailing_error", "handler", "name_value", "loop", "dynamic")
 
     def __init__(self, kind, name, col, args=(), value=None, comment=None):
         self.kind = kind
@@ -56,6 +58,11 @@ class OLine:
         self.comment = comment
         self.value_error = None  # a syntax error in the condition or the call arguments
         self.trailing_error = None  # text after the O-word command
+        #: the number of ``o#1 call``/``o[...] call`` (or M98's P word): computed when read
+        self.name_value = None
+        self.loop = None  # M98's L word (repeat count), a value, or None
+        #: the label is found when the line is read (name_value, or M99's running sub)
+        self.dynamic = kind in ("m98", "m99")
 
 
 class Line:
@@ -188,7 +195,7 @@ def parse_line(number: int, raw: str) -> Line:
     if not text:
         line.blank = True
         return line
-    if text[0] != "n" and _SIMPLE.fullmatch(text):
+    if text[0] != "n" and _SIMPLE.fullmatch(text) and not (text[0] == "m" and _FANUC.match(text)):
         found = line.found = _SIMPLE_WORD.findall(text)
         line.const = True
         d = dict(found)
@@ -259,10 +266,13 @@ def _parse_items(line: Line, text: str) -> None:
             if line.o_error is False and exc.kind != "unsupported":
                 line.o_error = True  # errors in the label: LinuxCNC reports them even while skipping
         return
-    if text[pos] == "m" and _is_fanuc_sub(reader, pos):
-        line.error = NgcError("unsupported", reader.col(pos),
-                              what="Fanuc-style subroutine (M98/M99)")
-        return
+    if text[pos] == "m":
+        fanuc = _fanuc_sub(reader, pos)
+        if fanuc == 98:
+            _m98_line(reader, pos, line)
+            return
+        if fanuc == 99:  # a return when in a call (decided when run), else M99 (a stop)
+            line.o = OLine("m99", "", reader.col(pos))
     items = line.items = []
     reader.defer = True
     try:
@@ -309,12 +319,39 @@ def _n_number(reader: Reader, pos: int) -> int:
     return pos
 
 
-def _is_fanuc_sub(reader: Reader, pos: int) -> bool:
+def _fanuc_sub(reader: Reader, pos: int) -> int:
+    """98 or 99 when the line's first word is M98 or M99 (LinuxCNC reads those lines as
+    O-lines, read_items/read_o), else 0."""
     try:
         v, _ = reader.integer(pos + 1)
     except NgcError:
-        return False
-    return type(v) is float and v == 98.0
+        return 0
+    return int(v) if type(v) is float and v in (98.0, 99.0) else 0
+
+
+def _m98_line(reader: Reader, pos: int, line: Line) -> None:
+    """``M98 P<number> [L<count>]``: a Fanuc-style call, read as read_o reads it (all the
+    words of the line, then the P word)."""
+    o = line.o = OLine("m98", "", reader.col(pos))
+    items: list = []
+    pos = reader.integer(pos + 1)[1]
+    reader.defer = True
+    try:
+        while pos < len(reader.text):
+            pos = _item(reader, pos, items)
+    except NgcError as exc:
+        o.value_error = exc
+    if reader.deferred is not None:
+        o.value_error = reader.deferred
+    if o.value_error is None:
+        words = {it[1]: it[2] for it in items if it[0] == "w"}
+        if "p" not in words:
+            o.value_error = NgcError("m98_no_p")
+        else:
+            o.name_value = words["p"]
+            o.loop = words.get("l")
+            o.comment = next((it[1] for it in items if it[0] == "c"), None)
+    line.error = o.value_error
 
 
 def _item(reader: Reader, pos: int, items: list) -> int:
@@ -335,10 +372,13 @@ def _item(reader: Reader, pos: int, items: list) -> int:
         return len(text)
     if c == "#":
         return _setting(reader, pos, items, col)
-    if c in "$@^":
-        what = {"$": "spindle selection ($)", "@": "polar coordinates (@)",
-                "^": "polar coordinates (^)"}[c]
-        raise NgcError("unsupported", col, what=what)
+    if c == "@" or c == "^":  # polar radius and angle (read_radius, read_theta)
+        _check_repeated(items, c, col)
+        v, end = reader.real_value(pos + 1)
+        items.append(("w", c, v, col))
+        return end
+    if c == "$":
+        raise NgcError("unsupported", col, what="spindle selection ($)")
     if c < " " or c > "z" or c == " ":
         raise NgcError("bad_character", col, char="\\%03o" % (ord(c) & 0xFF))
     raise NgcError("bad_character", col, char=c)
@@ -391,8 +431,9 @@ def _o_line(reader: Reader, pos: int, line: Line) -> None:
         if reader.deferred is not None:
             raise reader.deferred
         if type(v) is not float:
-            raise NgcError("unsupported", col, what="an O-word number computed from parameters")
-        name = str(int(v))
+            name = ""
+        else:
+            name = str(int(v))
     kind = next((k for k in O_KINDS if text.startswith(k, pos)), None)
     if kind is None:
         if pos < len(text) and text[pos] not in "(;":
@@ -402,6 +443,9 @@ def _o_line(reader: Reader, pos: int, line: Line) -> None:
     else:
         pos += len(kind)
     o = line.o = OLine(kind, name, col)
+    if not name:
+        o.name_value = v
+        o.dynamic = True
     try:
         if kind in ("while", "if", "elseif", "repeat"):
             if pos >= len(text) or text[pos] != "[":

@@ -26,12 +26,36 @@ TINY = 1e-12
 _ARC_AXES = {170: ("X", "Y"), 180: ("Z", "X"), 190: ("Y", "Z")}
 
 
+_D2R = math.pi / 180.0
+
+
+def polar_step(x: float, y: float, dr: float, dtheta: float,
+               angle_kind: str = "polar_angle_at_origin") -> tuple[float, float]:
+    """An incremental polar move from (x, y): the radius grows by ``dr``, then the angle by
+    ``dtheta`` radians (LinuxCNC's order; either may be 0 = absent)."""
+    if dr:
+        if x == 0 and y == 0:
+            raise NgcError("polar_at_origin")
+        theta = math.atan2(y, x)
+        radius = math.hypot(y, x) + dr
+        x, y = radius * math.cos(theta), radius * math.sin(theta)
+    if dtheta:
+        if x == 0 and y == 0:
+            raise NgcError(angle_kind)
+        theta = math.atan2(y, x) + dtheta
+        radius = math.hypot(y, x)
+        x, y = radius * math.cos(theta), radius * math.sin(theta)
+    return x, y
+
+
 class MotionMixin:
     def find_ends(self, block: blk.Block) -> list[float]:
         """The end point of the block's motion in the current coordinate system."""
         s = self.s
         w = block.words
         pos = s.pos
+        if "@" in w or "^" in w:
+            return self._polar_ends(block)
         if block.g.get(0) == 530:
             cx, cy = rotate(pos[0] + s.axis_offset[0], pos[1] + s.axis_offset[1], s.rotation)
             px = w["x"] - s.origin[0] - s.tool_offset[0] if "x" in w else cx
@@ -59,6 +83,35 @@ class MotionMixin:
         return [w.get("x", pos[0]), w.get("y", pos[1]), w.get("z", pos[2]),
                 w.get("a", pos[3]), w.get("b", pos[4]), w.get("c", pos[5])]
 
+    def _polar_ends(self, block: blk.Block) -> list[float]:
+        """find_ends with ``@`` (radius) and ``^`` (angle, degrees) for X and Y, in G17;
+        absolute about the origin, incremental (G91) from the current point."""
+        s = self.s
+        w = block.words
+        if block.g.get(0) == 530:
+            raise NgcError("polar_g53")
+        pos = s.pos
+        if s.comp_side and not s.comp_first:
+            pos = [*s.comp_program, *pos[3:6]]
+        x, y = pos[0], pos[1]
+        if not s.incremental:
+            if "@" in w and "^" in w:
+                x, y = w["@"] * math.cos(w["^"] * _D2R), w["@"] * math.sin(w["^"] * _D2R)
+            elif "@" in w:
+                if x == 0 and y == 0:
+                    raise NgcError("polar_angle_needed")
+                theta = math.atan2(y, x)
+                x, y = w["@"] * math.cos(theta), w["@"] * math.sin(theta)
+            else:
+                radius = math.hypot(y, x)
+                x, y = radius * math.cos(w["^"] * _D2R), radius * math.sin(w["^"] * _D2R)
+            rest = [w.get("z", pos[2]), w.get("a", pos[3]), w.get("b", pos[4]), w.get("c", pos[5])]
+        else:
+            x, y = polar_step(x, y, w.get("@", 0.0), w.get("^", 0.0) * _D2R)
+            rest = [pos[2] + w.get("z", 0.0), pos[3] + w.get("a", 0.0), pos[4] + w.get("b", 0.0),
+                    pos[5] + w.get("c", 0.0)]
+        return [x, y, *rest]
+
     def convert_motion(self, motion: int, block: blk.Block) -> None:
         if motion not in blk.CYCLES:
             self.s.cycle_il = None
@@ -66,6 +119,14 @@ class MotionMixin:
             self.convert_straight(motion, block)
         elif motion == 20 or motion == 30:
             self.convert_arc(motion, block)
+        elif motion in (330, 331, 760):
+            self.convert_threading(motion, block)
+        elif 382 <= motion <= 385:
+            self.convert_probe(motion, block)
+        elif motion in (50, 51):
+            self.convert_spline(motion, block)
+        elif motion == 52:
+            self.convert_nurbs(52, block)
         elif motion == 800:
             self.out.comment("interpreter: motion mode set to none")
             self.s.motion = 800
@@ -167,7 +228,8 @@ class MotionMixin:
         else:
             need = {170: ("x", "y", "arc_xy_missing"), 190: ("y", "z", "arc_yz_missing"),
                     180: ("x", "z", "arc_xz_missing")}[plane]
-            if need[0] not in w and need[1] not in w:
+            if need[0] not in w and need[1] not in w and (
+                    plane != 170 or ("@" not in w and "^" not in w)):
                 raise NgcError(need[2])
             off1 = off2 = 0.0
         end = self.find_ends(block)
@@ -263,7 +325,8 @@ def arc_data_ijk(move, plane, x1, y1, x2, y2, absolute, i, j, turns, rtol, spira
         raise NgcError("arc_zero_radius", **fields)
     abs_err = abs(r1 - r2)
     rel_err = abs_err / max(r1, r2)
-    if abs_err > spiral and rel_err > SPIRAL_RELATIVE_TOLERANCE:  # 2.9: both must fail
+    # 2.9: both must fail, or the absolute error alone exceed 100 times its tolerance
+    if abs_err > 100.0 * spiral or (abs_err > spiral and rel_err > SPIRAL_RELATIVE_TOLERANCE):
         raise NgcError("arc_radius_mismatch", abs_err="%.4g" % abs_err,
                        rel_err="%.4f" % (rel_err * 100), **fields)
     return cx, cy, (-turns if move == 20 else turns)

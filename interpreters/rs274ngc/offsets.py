@@ -78,6 +78,9 @@ class OffsetMixin:
         s = self.s
         if s.comp_side:
             raise NgcError("comp_tool_offset")
+        if code == 431:
+            self._dynamic_tool_offset(block)
+            return
         if code == 490:
             index = 0
             h = 0
@@ -91,6 +94,19 @@ class OffsetMixin:
         new = [s.u2p(t.offset[0]), s.u2p(t.offset[1]), s.u2p(t.offset[2]),
                t.offset[3], t.offset[4], t.offset[5]]
         self.out.use_tool_length_offset(new, h if h > 0 else 0)
+        self._apply_tool_offset(new)
+
+    def _dynamic_tool_offset(self, block: blk.Block) -> None:
+        """G43.1: the tool length offset is the block's axis words (program units), the
+        other axes keep theirs; the tool number stays the loaded tool's."""
+        s = self.s
+        w = block.words
+        new = [w.get(letter, s.tool_offset[i]) for i, letter in enumerate("xyzabc")]
+        self.out.use_tool_length_offset(new, self.tools.spindle.number)
+        self._apply_tool_offset(new)
+
+    def _apply_tool_offset(self, new: list[float]) -> None:
+        s = self.s
         old = s.tool_offset
         dx, dy = rotate(old[0] - new[0], old[1] - new[1], -s.rotation)
         pos = s.pos
@@ -156,6 +172,8 @@ class OffsetMixin:
             self.convert_savehome(code)
         elif code in (520, 920):
             self.convert_axis_offsets(code, block)
+        elif code == 53:
+            self.convert_nurbs(53, block)
 
     def convert_setup(self, block: blk.Block) -> None:
         """G10 L2 / L20: set the origin of coordinate system P."""

@@ -340,6 +340,41 @@ class Output:
                 self.flush()
             self.commands.append(new_feed(self.src, self.machine(p), feed))
 
+    def straight_feed_command(self, p, feed: float) -> None:
+        """A linear feed for vmach's stream only (a NURBS_FEED's sampled path)."""
+        if self.want:
+            if self.spindle_dirty:
+                self.flush()
+            self.commands.append(new_feed(self.src, self.machine(p), feed))
+
+    def traverse_command(self, p) -> None:
+        """A rapid move for vmach's stream only (a probe's back-off)."""
+        if self.want:
+            if self.spindle_dirty:
+                self.flush()
+            self.commands.append(new_traverse(self.src, self.machine(p)))
+
+    def arc_feed_command(self, p, center, clockwise: bool, feed: float) -> None:
+        """An XY arc for vmach's stream only (a NURBS_FEED's sampled path); ``center`` (x, y)."""
+        if self.want:
+            if self.spindle_dirty:
+                self.flush()
+            cm = self.machine([center[0], center[1], *p[2:]])
+            self._c(vc.ArcFeed(self.src, axes=self.machine(p), plane=PLANE_AXES[170],
+                               center=(cm[PLANE_AXES[170][0]], cm[PLANE_AXES[170][1]]),
+                               clockwise=clockwise, turns=0, feed=feed))
+
+    def rigid_tap(self, p, back, feed: float) -> None:
+        """RIGID_TAP: in to ``p`` and out again to ``back`` (the start), synchronised with the
+        spindle; vmach's stream gets the two feeds."""
+        if self.trace:
+            self._p("RIGID_TAP(%.4f, %.4f, %.4f)" % (p[0], p[1], p[2]))
+        if self.want:
+            if self.spindle_dirty:
+                self.flush()
+            self.commands.append(new_feed(self.src, self.machine(p), feed))
+            self.commands.append(new_feed(self.src, self.machine(back), feed))
+
     def arc_feed(self, plane: int, e1, e2, c1, c2, rotation: int, e3, abc, feed: float) -> None:
         if self.trace:
             self._p("ARC_FEED(%.4f, %.4f, %.4f, %.4f, %d, %.4f, %.4f, %.4f, %.4f)"
@@ -384,6 +419,22 @@ class Output:
                      "stop": "STOP_SPINDLE_TURNING(0)"}[direction])
         self.direction = direction
         self._spindle()
+
+    def orient_spindle(self, angle: float, mode: int) -> None:
+        """M19 with R or P: the spindle stops at ``angle`` degrees (mode 0 either way, 1
+        clockwise, 2 counterclockwise)."""
+        if self.queue:
+            return self._defer(self.orient_spindle, angle, mode)
+        if self.trace:
+            self._p("ORIENT_SPINDLE(0, %.4f, %d)" % (angle, mode))
+        self.direction = "stop"
+        self._spindle()
+
+    def wait_orient(self, timeout: float) -> None:
+        if self.queue:
+            return self._defer(self.wait_orient, timeout)
+        if self.trace:
+            self._p("SPINDLE.0.WAIT_ORIENT_COMPLETE(%.4f)" % timeout)
 
     def set_spindle_mode(self) -> None:
         if self.queue:

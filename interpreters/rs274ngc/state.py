@@ -186,6 +186,9 @@ class Settings:
         self.feed_override = True
         self.speed_override = True
         self.control = "continuous"
+        self.spline_ij = (0.0, 0.0)  # G5's start tangent when I J are omitted (-P -Q of the last)
+        self.diameter_mode = False  # G7: X words are diameters (halved when read)
+        self.orient_offset = 0.0  # degrees added to M19's R ([RS274NGC]ORIENT_OFFSET)
         self.tolerance = 0.0
         self.naivecam = 0.0
         # rs274's simulated machine starts with pocket 1 "loaded" (saicanon _active_slot = 1)

@@ -114,7 +114,7 @@ def test_check_finds_subroutine_file_beside_program(tmp_path):
 
 
 def test_check_missing_end_and_unsupported(tmp_path):
-    assert _check(tmp_path, "G0 X1\nG33 X1 K1\n") == [
+    assert _check(tmp_path, "G0 X1\nG17.1\n") == [
         ("unsupported", 2, 1),
     ]
     assert _check(tmp_path, "G0 X1\n", "b.ngc") == [("file_ended", 1, 1)]

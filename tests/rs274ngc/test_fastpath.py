@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from rs274ngc.fixture_options import fixture_options
 
 from interpreters.rs274ngc import FORMATS, fastpath, output, rs274_trace, run
 from interpreters.rs274ngc.interp import Interpreter
@@ -77,12 +78,11 @@ def _write(directory: Path, text: str, name: str = "prog.ngc") -> Path:
 
 
 @pytest.mark.parametrize("program", PROGRAMS, ids=lambda p: p.stem)
-def test_golden_programs_both_ways(program: Path, monkeypatch):
+def test_golden_programs_both_ways(program: Path, monkeypatch, tmp_path):
     monkeypatch.chdir(FIXTURES)
-    extra = {}
-    if program.with_suffix(".tbl").exists():
-        extra["tool_table"] = program.with_suffix(".tbl").name
-    out = assert_same_both_ways(program.name, extra=extra)
+    extra = fixture_options(program, tmp_path, update=False)  # each run reads the same file
+    out = assert_same_both_ways(program.name, options=RunOptions(dialect_options=extra),
+                                extra=extra)
     expected = program.with_suffix(".expected").read_text(encoding="utf-8").splitlines()
     assert out["trace"] == expected
 

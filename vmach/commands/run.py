@@ -34,7 +34,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         default=tol.max_blocks,
         help=f"stop after this many blocks (default {tol.max_blocks:,})",
     )
-    p.add_argument("--tool-table", help="LinuxCNC tool table (.tbl) for RS274/NGC programs")
+    add_linuxcnc_arguments(p)
+    p.add_argument("--var-file-update", action="store_true",
+                   help="write the parameters back into --var-file (LinuxCNC's way; the old "
+                   "file kept as .bak) instead of into NAME.vmach.var beside it")
+    p.add_argument("--block-delete", action="store_true",
+                   help="RS274/NGC: skip lines starting with / (rs274 -b)")
+    p.add_argument("--continue-after-error", action="store_true",
+                   help="RS274/NGC: report an error and go on after the top-level call "
+                   "(rs274 -n 0); the errors are still findings")
     p.add_argument("--tools", help="tool library (.toml): the D offsets' radii for G41/G42 "
                    "(default: the setup file's)")
 
@@ -48,7 +56,8 @@ def run(args: argparse.Namespace) -> int:
     dialect = interpreters.dialect_for(path, args.dialect, control.dialect)
     library = _library(path, args.tools)
     options = RunOptions(max_blocks=args.max_blocks, tool_radius=library.radius if library else None,
-                         tool_data=library.data if library else None)
+                         tool_data=library.data if library else None,
+                         dialect_options=linuxcnc_options(args))
     if args.format in ("text", "json"):
         result = dialect.run(args.program, control, options)
         if args.format == "json":
@@ -64,9 +73,7 @@ def run(args: argparse.Namespace) -> int:
                 f"--format {args.format}: not available for this dialect (use {known})",
                 kind="usage",
             )
-        text_lines, result = formats[args.format](
-            args.program, control, options, {"tool_table": args.tool_table}
-        )
+        text_lines, result = formats[args.format](args.program, control, options)
         lines = iter(text_lines)
     if args.output:
         if result.completed:
@@ -88,6 +95,33 @@ def run(args: argparse.Namespace) -> int:
     for f in result.findings:
         sys.stderr.write(f.render() + "\n")
     return code
+
+
+def add_linuxcnc_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of RS274/NGC programs that stand for LinuxCNC's configuration files."""
+    p.add_argument("--tool-table", help="LinuxCNC tool table (.tbl) for RS274/NGC programs")
+    p.add_argument("--ini", help="LinuxCNC INI file for RS274/NGC programs: its [RS274NGC] "
+                   "settings, #<_ini[...]> values and SUBROUTINE_PATH directories")
+    p.add_argument("--var-file", help="LinuxCNC parameter file (.var) for RS274/NGC programs: "
+                   "read at the start; the parameters at the end go to NAME.vmach.var")
+
+
+def linuxcnc_options(args: argparse.Namespace) -> dict:
+    """``RunOptions.dialect_options`` from the options of :func:`add_linuxcnc_arguments`
+    (and run's --var-file-update/--continue-after-error). The dialect reads the files (a
+    file it cannot read is its finding)."""
+    out: dict = {}
+    for name in ("tool_table", "ini", "var_file"):
+        value = getattr(args, name, None)
+        if value:
+            out[name] = value
+    if getattr(args, "var_file_update", False):
+        out["var_file_update"] = True
+    if getattr(args, "block_delete", False):
+        out["block_delete"] = True
+    if getattr(args, "continue_after_error", False):
+        out["continue_after_error"] = True
+    return out
 
 
 def _json_line(cmd, drives: dict | None) -> str:

@@ -9,6 +9,7 @@ import time
 from pathlib import Path
 
 from vmach import coverage
+from vmach.commands.run import add_linuxcnc_arguments, linuxcnc_options
 from vmach.errors import InputError
 from vmach.motion.timing import format_seconds
 from vmach.output import atomic_writer, make_dir, writable_dir
@@ -34,6 +35,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="stand in for every tool the library lacks (or all, without one) with this cutter, e.g. "
         "flat:d=10 (flat, ball, drill); each is a default_tool warning, never assumed silently",
     )
+    add_linuxcnc_arguments(p)
     p.add_argument("--stock", help="stock: cylinder:d=60,l=100 | box:x=..,y=..,z=.. | mesh:part.stl")
     p.add_argument("--profile", help="profile to check, e.g. P3G:50 (DIN 32711) or P4C:35x30")
     p.add_argument("--profile-z", help="Z range of the profile check, e.g. -35:-5")
@@ -92,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
         dialect=args.dialect,
         default_tool=args.default_tool,
         progress=progress,
+        dialect_options=linuxcnc_options(args),
     )
     try:
         report = verify(args.program, options)
