@@ -11,7 +11,7 @@ Protocol, over a socket pair (``multiprocessing.connection``, numpy arrays pickl
 ``("solid", vertices, faces, volume)`` once, then ``("run", [(vertices, faces), ...])`` — a run
 of cutters, united at once and kept under its number (0, 1, … in the order sent) —,
 ``("batch", [run numbers], cutters)`` — the union of those runs' unions, subtracted and
-checked as :func:`vmach.stock.batch.subtract_checked` does, in the order sent, each answered
+checked as :func:`vmach.stock.engine.subtract_checked` does, in the order sent, each answered
 by ``("done", cutters subtracted so far)`` for a progress bar — and
 ``("snap", n)``, answered with the piece after every batch sent before it, its box,
 volume, the worker's boolean seconds and the first error (kind, message) if a batch failed
@@ -42,7 +42,6 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from vmach.stock import engine
-from vmach.stock.batch import box_of, subtract_checked
 
 
 class _OneBlasThread:
@@ -221,7 +220,7 @@ def serve(conn: Connection) -> None:
         elif msg[0] == "batch" and error is None:
             t0 = time.perf_counter()
             try:
-                solid, volume = subtract_checked(solid, volume, [runs.pop(r) for r in msg[1]])
+                solid, volume = engine.subtract_checked(solid, volume, [runs.pop(r) for r in msg[1]])
                 done += msg[2]
             except engine.StockError as exc:
                 error = (exc.kind, str(exc))
@@ -235,7 +234,7 @@ def serve(conn: Connection) -> None:
                 part = engine.intersect(solid, engine.box(msg[2], msg[3]))
                 vol = engine.volume(part)
             arrays = engine.to_arrays(part) if error is None else (None, None)
-            box = box_of(part) if error is None else None
+            box = engine.box_of(part) if error is None else None
             conn.send(("snap", msg[1], *arrays, box, vol, seconds, error))
 
 

@@ -25,7 +25,7 @@ import numpy as np
 from vmach.errors import InputError
 from vmach.output import atomic_writer, make_dir, writable_dir
 from vmach.stock import cusps, cutters, engine, feet
-from vmach.stock.batch import EMPTY_BOX, Piece
+from vmach.stock.batch import Piece
 from vmach.stock.clip import Shape, shape
 from vmach.stock.column import Column, plan_columns
 from vmach.stock.cutters import CutterMaker, _run_frames
@@ -170,7 +170,7 @@ class Stock(CutterMaker):
         self._cells = self._partition(solid, cells)
         # the cells' boxes (c, 2, 3) the cutters are made against, and the cells as they were
         # at the last retake of the slabs (what the next one takes: :meth:`_boxes`)
-        self._seen = np.array([c.box for c in self._cells]) if self._cells else EMPTY_BOX[None]
+        self._seen = np.array([c.box for c in self._cells]) if self._cells else engine.EMPTY_BOX[None]
         self._next_view: list | None = None
         self._solid: engine.Solid | None = solid
         self._bar = None
