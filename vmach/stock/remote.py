@@ -1,8 +1,8 @@
 """A piece of stock held by a worker process, which subtracts batches of cutters while the
 caller goes on making the next ones.
 
-manifold3d holds the GIL while it evaluates a boolean (docs/stock.md: a Python loop ran four
-times slower beside a boolean on another thread, 1.3 times beside one in another process), so
+manifold3d holds the GIL while it evaluates a boolean (a Python loop runs several times slower
+beside a boolean on another thread, hardly slower beside one in another process), so
 the sweep (Python and numpy, one core) and the booleans (manifold3d, both cores) overlap only
 in two processes. The worker is a fresh interpreter (``python -m vmach.stock.remote FD``, which
 imports manifold3d and numpy only): manifold3d's thread pool does not survive ``fork``.
@@ -21,9 +21,8 @@ thousand triangles instead of the whole stock). All arrays in double precision (
 so the worker's batches are the caller's exactly.
 
 While any worker runs, the caller's BLAS (numpy's OpenBLAS) is held to one thread: its idle
-threads spin for a while after every matrix product, on the core the worker's booleans need.
-Measured on the reference program at `fine` (docs/stock.md): the main process's CPU −0.5 s,
-the whole run −0.3 s.
+threads spin for a while after every matrix product, on the core the worker's booleans need
+(measured: docs/stock-history.md).
 """
 
 from __future__ import annotations
