@@ -20,7 +20,7 @@ import numpy as np
 
 from vmach.errors import InputError
 from vmach.stock import make
-from vmach.stock.jobs import NO_ROWS, ColumnJob, Fan, Job, Placed, Runs, span
+from vmach.stock.jobs import ColumnJob, Fan, Job, Placed, Runs, span
 from vmach.stock.make_fans import run_frames
 from vmach.stock.stats import CutStats
 from vmach.stock.strategies import cusps as cusp_poses
@@ -217,4 +217,4 @@ def _checked(tips, axes, rows) -> tuple[np.ndarray, np.ndarray]:
     return tips, axes
 
 
-__all__ = ["NO_ROWS", "Planner", "Settings"]
+__all__ = ["Planner", "Settings"]
