@@ -19,6 +19,7 @@ from vmach.stock import Stock, engine
 from vmach.stock.column import plan_columns
 from vmach.stock.fan import back_clear, plan_fans, prism
 from vmach.stock.halfplanes import clip_box, polygon
+from vmach.stock.make_fans import FanMaker
 from vmach.tol import tol
 from vmach.tooling import tool_solid
 
@@ -41,9 +42,8 @@ def _fan_plan(tool, tips, axes, blank="cylinder:d=60,l=60"):
     stock = Stock.from_spec(blank, chord=CHORD)
     ts = tool_solid(tool, CHORD)
     pr = prism(ts.pieces[0])
-    stock._blank_hull()
     fans = plan_fans(tips, axes, np.ones(len(tips) - 1, bool), pr,
-                     clear=back_clear(tips, axes, pr, stock._hull.corners), stock_box=stock.bounds)
+                     clear=back_clear(tips, axes, pr, stock.blank.hull.corners), stock_box=stock.bounds)
     return ts, fans
 
 
@@ -219,7 +219,8 @@ def test_the_last_turns_floor_is_kept_within_the_bound_by_two_guards(library, he
     assert measured.stats.column_cells < planned
     over = true - floor_hits(measured.solid, phis, rs, top=-20.0)
     assert np.nanmax(over) <= measured.stats.fan_overcut_mm + dev + 1e-6
-    monkeypatch.setattr(Stock, "_column_bridges", lambda self, col, *a: (np.zeros(len(col.cells)), 0.0))
+    monkeypatch.setattr(FanMaker, "column_bridges",
+                        lambda self, job, *a: (np.zeros(len(job.column.cells)), 0.0))
     forced = Stock.from_spec("cylinder:d=60,l=60", chord=CHORD)
     forced.cut(tool, tips, axes)
     assert forced.stats.column_cells == planned

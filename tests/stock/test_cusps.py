@@ -13,6 +13,7 @@ from tests.stock.conftest import turnmill
 from tests.stock.test_fans import floor_hits, true_floor
 from vmach.stock import Stock, engine
 from vmach.stock.cusps import AROUND, cusp_height, side, step_cusps, substeps
+from vmach.stock.strategies import fins as fins_strategy
 from vmach.tol import ACCURACY
 from vmach.tooling import Tool, frames, tool_solid
 
@@ -288,9 +289,9 @@ def test_a_cones_added_fins_reach_only_the_cusps_no_other_pass_cuts(tmp_path, mo
     whole = Stock.from_spec("cylinder:d=60,l=20", cusp=0.0025)
     whole.cut(tool, pose.tip, pose.axis, _between(q, model.fk), _Below(-1.5))
     assert below.stats.cusp_poses == whole.stats.cusp_poses > 10
-    tall = [k[3] for k in below._fin_cache]
+    tall = [k[3] for k in below.maker._fins]
     assert np.isfinite(tall).any() and max(t for t in tall if np.isfinite(t)) < tool.cutting_length
-    assert all(np.isinf(k[3]) for k in whole._fin_cache)
+    assert all(np.isinf(k[3]) for k in whole.maker._fins)
     # what the shorter fins leave lies below z = -1.5; above it both parts differ by slivers
     # no thicker than the fins' arcs (both lie within that sag of the true cone), both ways
     more = engine.subtract(below.solid, [whole.solid])
@@ -298,7 +299,7 @@ def test_a_cones_added_fins_reach_only_the_cusps_no_other_pass_cuts(tmp_path, mo
     top = engine.box([-40, -40, -1.5], [40, 40, 1])
     above = engine.intersect(more, top)
     assert engine.volume(more) - engine.volume(above) > 0.002
-    sag = 0.8 * 0.0025                                        # the fins' arcs (cutters._fin_piece)
+    sag = 0.8 * 0.0025                                        # the fins' arcs (make.Maker.fin_piece)
 
     def thickness(piece) -> float:
         """The thickest of its sections' polygons (twice the area over the perimeter: a
@@ -318,9 +319,9 @@ def test_a_cones_added_fins_reach_only_the_cusps_no_other_pass_cuts(tmp_path, mo
 
 def _whole_poses(monkeypatch):
     """Cut every added pose whole (no fins)."""
-    import vmach.stock.cutters as cutters_module
+    import vmach.stock.make as make_module
 
-    monkeypatch.setattr(cutters_module, "_fin_bucket", lambda half, radius: np.full(len(half), np.inf))
+    monkeypatch.setattr(make_module, "fin_bucket", lambda half, radius: np.full(len(half), np.inf))
 
 
 @pytest.mark.parametrize("arcs", [False, True])
@@ -426,7 +427,8 @@ def test_a_runs_inner_poses_may_be_fins_where_their_neighbours_hold_the_rest(lib
     face's far parts lie in front of the neighbours' faces, and the poses stay whole. Beyond
     the blank the tool's back is not held (its corners stand behind the neighbours' backs):
     only what may lie in the stock counts."""
-    from vmach.stock.cusps import fin_normal, fins_cover
+    from vmach.stock.cusps import fin_normal
+    from vmach.stock.strategies.fins import fins_cover
 
     blank = lambda p: np.hypot(p[:, 0], p[:, 1]) <= 30.0     # noqa: E731
     everywhere = lambda p: np.ones(len(p), bool)            # noqa: E731
@@ -446,7 +448,7 @@ def test_a_runs_inner_poses_may_be_fins_where_their_neighbours_hold_the_rest(lib
 def test_a_turns_placed_poses_cut_as_fins_leave_the_whole_poses_part(library, monkeypatch, arcs):
     """The D25's last turn on a Ø60 shaft — constant Z, the tip 0.8 mm off the contact
     point as the polygon program's saw-tooth Y leaves it, no fans: its inner placed poses cut
-    as fins (Stock._inner_fins) leave the part the whole poses leave, to a sliver: the
+    as fins (:mod:`vmach.stock.strategies.fins`) leave the part the whole poses leave, to a sliver: the
     volumes within 1e-5 of what they remove, the flank at z = -30 and the shoulder floor the
     same to the fins' arcs (they are the true tool, the whole poses its polygon)."""
     tool = library.lookup("GLOD D25")
@@ -456,7 +458,7 @@ def test_a_turns_placed_poses_cut_as_fins_leave_the_whole_poses_part(library, mo
     for whole in (False, True):
         with monkeypatch.context() as mp:
             if whole:
-                mp.setattr(Stock, "_inner_fins", lambda self, tool, ts, fr, *a: np.full(len(fr), np.inf))
+                mp.setattr(fins_strategy, "claim", lambda tool, ts, pr, fr, *a: (np.full(len(fr), np.inf), 0))
             stock = Stock.from_spec("cylinder:d=60,l=60", fans=False, arcs=arcs)
             stock.cut(tool, tips, axes)
         cuts.append(stock)
@@ -467,8 +469,8 @@ def test_a_turns_placed_poses_cut_as_fins_leave_the_whole_poses_part(library, mo
     # cut's surface apart (measured 0.89 mm³ plain, 0.039 with arcs, against 45 and 47)
     v, f = engine.to_mesh(whole.removed())
     area = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1).sum()
-    assert 0 < abs(fins.volume - whole.volume) <= tool_solid(tool, fins.chord, arcs=arcs).deviation * area
     dev = tool_solid(tool, fins.chord, arcs=arcs).deviation
+    assert 0 < abs(fins.volume - whole.volume) <= dev * area
     phis = np.radians(np.linspace(10.0, 80.0, 141))
     rs = np.array([26.5, 28.0, 29.5])
     floor = floor_hits(fins.solid, phis, rs) - floor_hits(whole.solid, phis, rs)

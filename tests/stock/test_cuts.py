@@ -317,14 +317,14 @@ def test_a_retract_along_the_tool_removes_what_the_tool_at_its_inner_pose_does(f
     the plunge's hull holds) — the same part as with the retract's own hull, to round-off.
     A tool whose back lies in the stock (X so small that the back face is inside it) keeps the
     retract's hull."""
-    from vmach.stock import stock as stock_module
+    from vmach.stock.strategies import runs as runs_module
 
     for xs, replaced in (([26.0], True), ([10.0], False)):
         parts = []
         for axial in (True, False):
             with pytest.MonkeyPatch.context() as mp:
                 if not axial:
-                    mp.setattr(stock_module, "axial_runs", lambda tips, axes, runs: (
+                    mp.setattr(runs_module, "axial_runs", lambda tips, axes, runs: (
                         np.zeros(len(runs), bool), np.zeros(len(runs), int)))
                 stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
                 stock.cut(face40, *_plunges(xs))
@@ -341,14 +341,14 @@ def test_plunges_repeated_deeper_along_the_tool_are_cut_as_one_hull(face40):
     the three hulls' union is their hull — one cutter for the plunges and one for the moves
     up after the retracts, the same part. Passes further apart than the tool is long are
     not stacked."""
-    from vmach.stock import stock as stock_module
+    from vmach.stock import plan as plan_module
 
     for xs, stacked in (([27.0, 26.0, 25.0], 4), ([29.0, 23.0], 0)):
         parts = []
         for stack in (True, False):
             with pytest.MonkeyPatch.context() as mp:
                 if not stack:
-                    mp.setattr(stock_module, "stacked_runs", lambda tips, axes, runs, length: [
+                    mp.setattr(plan_module, "stacked_runs", lambda tips, axes, runs, length: [
                         [r] for r in range(len(runs))])
                 stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
                 stock.cut(face40, *_plunges(xs))
@@ -363,13 +363,13 @@ def test_a_cutter_beyond_the_stock_along_its_tool_axis_is_culled(face40):
     """After the retract, the move up at X + 10 lies wholly beyond the stock along the tool's
     axis (its face 36 mm out, the stock 30) though its box meets the stock's box: it is
     culled, and the part is the same as with it cut."""
-    from vmach.stock import cutters as cutters_module
+    from vmach.stock.view import View
 
     parts = []
     for cull in (True, False):
         with pytest.MonkeyPatch.context() as mp:
             if not cull:
-                mp.setattr(cutters_module.CutterMaker, "_apart",
+                mp.setattr(View, "apart",
                            lambda self, points, axes: np.zeros(len(points), bool))
             stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
             stock.cut(face40, *_plunges([26.0], c=45.0))       # at 45°: its box meets the stock's

@@ -16,10 +16,13 @@ import pytest
 
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
-from vmach.stock import cutters as cutters_module
-from vmach.stock import stock as stock_module
-from vmach.stock.fan import EPS, Prism, back_clear, covered, plan_fans, prism
+from vmach.stock import make_fans as make_fans_module
+from vmach.stock.fan import Prism, back_clear, plan_fans, prism
+from vmach.stock.fan_measure import EPS, covered
+from vmach.stock.strategies import fans as fans_strategy
+from vmach.stock.strategies import fins as fins_strategy
 from vmach.stock.sweep import scallop_bound
+from vmach.stock.view import View
 from vmach.tol import tol
 from vmach.tooling import Tool, tool_solid
 
@@ -188,7 +191,7 @@ def test_runs_keep_within_the_angle_limit(face40):
 def test_a_run_that_cannot_fit_falls_back_to_placed_poses(helix_cut, monkeypatch):
     """With a bound no fan can keep, every run is shortened to two steps and then placed:
     the cut equals the placed-pose cut with every pose whole (a path of placed poses cuts
-    those between two rotary steps as fins, Stock._inner_fins: within the polygon's
+    those between two rotary steps as fins, :mod:`vmach.stock.strategies.fins`: within the polygon's
     deviation of the whole poses)."""
     tool = helix_cut["tool"]
     c = np.arange(0.0, 60.0, 1.713)
@@ -197,7 +200,7 @@ def test_a_run_that_cannot_fit_falls_back_to_placed_poses(helix_cut, monkeypatch
     for kw in ({"fan_overcut": 1e-9}, {"fans": False}, {"fans": False, "whole": True}):
         with monkeypatch.context() as mp:
             if kw.pop("whole", False):
-                mp.setattr(Stock, "_inner_fins", lambda self, tool, ts, fr, *a: np.full(len(fr), np.inf))
+                mp.setattr(fins_strategy, "claim", lambda tool, ts, pr, fr, *a: (np.full(len(fr), np.inf), 0))
             stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, **kw)
             stock.cut(tool, tips, axes)
         vols.append(stock.volume)
@@ -328,7 +331,7 @@ def test_fans_are_not_used_where_the_tools_back_lies_in_the_stock(library, monke
     fans, dense = _fan_and_dense(tool, xyzc, "cylinder:d=60,l=60")
     assert fans.stats.fans == 0
     assert engine.volume(fans.solid) >= engine.volume(dense.solid) - 1e-9
-    monkeypatch.setattr(Stock, "_back_clear", lambda self, tips, *a: np.ones(len(tips), bool))
+    monkeypatch.setattr(View, "back_clear", lambda self, tips, *a: np.ones(len(tips), bool))
     forced, _ = _fan_and_dense(tool, xyzc, "cylinder:d=60,l=60")
     assert forced.stats.fans > 0
     rs = np.array([27.0, 28.5, 29.5])
@@ -358,7 +361,7 @@ def test_the_tools_back_is_judged_by_the_stock_within_its_reach(library, monkeyp
     lo_d = floor_hits(dense.solid, phis, rs, top=-10.0)
     dev = tool_solid(tool, 0.002).deviation
     assert np.nanmax(lo_d - lo_f) <= fans.stats.fan_overcut_mm + 2 * dev + 1e-6
-    monkeypatch.setattr(Stock, "_back_clear", lambda self, tips, axes, pr: back_clear(
+    monkeypatch.setattr(View, "back_clear", lambda self, tips, axes, pr: back_clear(
         tips, axes, pr, engine.to_mesh(stepped)[0]))
     assert cut(1).stats.fans == 0
 
@@ -372,7 +375,7 @@ def test_fans_keep_the_foot_a_face_rim_leaves(library, monkeypatch, y0):
     2b wide. Placed poses (8× denser) keep it; fans would cut it to the tangent polygon, so
     the planner does not fan such steps (fan.rim_standoff); forced, they gouge the foot.
     Centred (y0 = 0), fans are used and agree with the dense cut there."""
-    import vmach.stock.fan as fan_module
+    import vmach.stock.fan_rims as fan_rims
 
     tool = library.lookup("GLOD D25")
     z_tip = -20.0
@@ -401,7 +404,7 @@ def test_fans_keep_the_foot_a_face_rim_leaves(library, monkeypatch, y0):
         return
     assert foot - 26.0 > 0.03
     assert fans.stats.fans == 0
-    monkeypatch.setattr(fan_module, "rim_standoff", lambda tips, *a, **k: np.zeros(len(tips) - 1))
+    monkeypatch.setattr(fan_rims, "rim_standoff", lambda tips, *a, **k: np.zeros(len(tips) - 1))
     forced = cut(1)
     assert forced.stats.fans > 0
     assert (r_dense - flank(forced)).max() > 0.5 * (foot - 26.0)   # forced fans gouge the foot
@@ -427,8 +430,8 @@ def test_a_rim_whose_foot_would_lie_beyond_the_stock_is_fanned(library, monkeypa
         for q in np.radians(np.linspace(20.0, 80.0, 13)):
             gap = inward(dense.solid, q, z) - inward(fans.solid, q, z)   # material the fans leave
             assert -1e-4 <= gap <= bound + 1e-4          # never deeper, within the scallops
-    plan = stock_module.plan_fans
-    monkeypatch.setattr(stock_module, "plan_fans", lambda *a, **k: plan(*a, **{**k, "stock_box": None}))
+    plan = fans_strategy.plan_fans
+    monkeypatch.setattr(fans_strategy, "plan_fans", lambda *a, **k: plan(*a, **{**k, "stock_box": None}))
     assert cut(1).stats.fans == 0
 
 
@@ -444,7 +447,8 @@ def helix_turns(library):
     for name in ("fans", "alone"):
         with pytest.MonkeyPatch.context() as mp:
             if name == "alone":
-                mp.setattr(cutters_module, "covered", lambda grid, need, *a, **k: np.zeros(need.shape, bool))
+                mp.setattr(make_fans_module, "covered",
+                           lambda grid, need, *a, **k: np.zeros(need.shape, bool))
             # (fans alone: columns would take the same sector of consecutive turns at once)
             stock = Stock.from_spec("cylinder:d=60,l=60", chord=FINE, columns=False)
             stock.cut(tool, tips, axes)

@@ -74,8 +74,8 @@ def test_a_fine_mesh_blank_is_met_cell_by_cell_as_the_whole_blank_would_be(tmp_p
         agree += 1
         hits += whole
     assert 10 < hits < 50                      # both answers were asked for
-    assert len(stock._blank_cells) > 8         # the cells were made, and only where asked
-    assert len(stock._blank_cells) < 11 ** 3
+    assert len(stock.blank.cells) > 8         # the cells were made, and only where asked
+    assert len(stock.blank.cells) < 11 ** 3
 
 
 def test_reduced_hull_keeps_the_blank_holds_answers_safe(tmp_path, sphere, monkeypatch):

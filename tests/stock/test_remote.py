@@ -136,11 +136,11 @@ def test_a_stock_gives_the_same_part_with_a_worker_and_without(face40):
     for worker in (False, True):
         stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, fans=False, batch=16, spread=2,
                                 worker=worker)
-        stock._cells[0].remote_after = 0 if worker else None      # from the first window
+        stock.batches.pieces[0].remote_after = 0 if worker else None      # from the first window
         stock.cut(face40, tips, axes)
         parts.append((stock.stats.cutters, stock.stats.batches, stock.volume, stock))
     (n0, b0, v0, s0), (n1, b1, v1, s1) = parts
-    assert s1._cells[0].remote is not None and s0._cells[0].remote is None
+    assert s1.batches.pieces[0].remote is not None and s0.batches.pieces[0].remote is None
     assert (n1, b1) == (n0, b0) and n0 > 64
     assert v1 == pytest.approx(v0, rel=1e-12)
     assert v0 < np.pi * 30.0 ** 2 * 60.0 - 1000.0

@@ -11,6 +11,7 @@ from vmach.stock import Stock, engine
 from vmach.stock.clip import clip, shape
 from vmach.stock.fan import prism
 from vmach.stock.slabs import GRID, JITTER, Slabs
+from vmach.stock.view import View
 from vmach.tol import tol
 from vmach.tooling import frames, tool_solid
 
@@ -119,20 +120,20 @@ def test_trimming_to_the_stock_within_each_cutters_z_range_does_not_change_the_c
     tips, axes = turnmill(22.0, np.linspace(-4, 4, 40), np.linspace(-12, -30, 40), np.linspace(0, 70, 40))
     vols = []
     for slabs in (False, True):
-        Stock.SLABS = slabs
+        View.SLABS = slabs
         try:
             # small batches: enough of them that the next path takes the slabs again
             stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, fans=False, batch=8)
             zlo, zhi = np.array([-15.0, -50.0]), np.array([-5.0, -40.0])
             stock.cut(face40, turn_tips, turn_axes)
             stock.flush()
-            first = stock._boxes(zlo, zhi, fresh=True)
+            first = stock.view.boxes(zlo, zhi, fresh=True)
             stock.cut(face40, turn_tips, turn_axes)        # again: cutters, nothing removed
-            box = stock._boxes(zlo, zhi, fresh=True)
+            box = stock.view.boxes(zlo, zhi, fresh=True)
             stock.cut(face40, tips, axes)
             vols.append(stock.volume)
         finally:
-            Stock.SLABS = True
+            View.SLABS = True
         if slabs:
             assert first[0, 1, 0] > 29.9 + tol.trim_margin         # the blank, as it was
             # thinner where it was turned, the whole stock's width beyond the step (each

@@ -15,11 +15,11 @@ import trimesh
 from catalog import POLYGON_TOOLS
 
 from interpreters import sinumerik
+from vmach.checks import stock_events
 from vmach.machine import load_model
 from vmach.motion.table import build
 from vmach.stock import Stock, engine
 from vmach.stock import hull as hull_module
-from vmach.stock import simulate as simulate_module
 from vmach.stock.events import Part, cylinders_beyond, part_solids
 from vmach.stock.simulate import simulate
 from vmach.stock.sweep import scallop_bound
@@ -68,13 +68,13 @@ def _run(tmp_path, text: str, checks: bool, monkeypatch=None, spec: str = "cylin
     stock = Stock.from_spec(spec)
     moved: list[int] = []
     if monkeypatch is not None:
-        one = simulate_module._cut_one
+        one = stock_events._cut_one
 
         def spy(stock_, local, done, tool, table_, row, *a, **k):
             moved.append(row)
             return one(stock_, local, done, tool, table_, row, *a, **k)
 
-        monkeypatch.setattr(simulate_module, "_cut_one", spy)
+        monkeypatch.setattr(stock_events, "_cut_one", spy)
     sim = simulate(table, model, load_tools(POLYGON_TOOLS), stock, checks=checks)
     return sim, stock, moved, table
 
@@ -88,11 +88,11 @@ def test_parts_that_meet_only_cleared_material_cost_no_move_by_move_cut(tmp_path
     it is a candidate; measured once on the stock before its chunk it reaches nothing, so no
     row is cut and measured on its own, and the chunks are cut together as one path — the
     part is the plain cut's (to the slivers by which the poses at the ends of a path, cut
-    whole, differ from their fins where the one path has them: Stock._inner_fins)."""
+    whole, differ from their fins where the one path has them: :mod:`vmach.stock.strategies.fins`)."""
     text = HEAD + FIRST_TURN + SECOND_TURN
     plain, plain_stock, _, table = _run(tmp_path, text, checks=False)
     checked, stock, moved, _ = _run(tmp_path, text, checks=True, monkeypatch=monkeypatch)
-    assert len(table) > 3 * simulate_module.CHUNK          # several chunks
+    assert len(table) > 3 * stock_events.CHUNK          # several chunks
     assert checked.findings == []
     assert moved == []
     assert stock.volume == pytest.approx(plain_stock.volume, rel=2e-6)
@@ -132,17 +132,17 @@ def test_a_finely_meshed_blank_gives_the_findings_of_its_exact_hull(tmp_path, mo
                 for f in sim.findings]
 
     exact, stock, _, _ = _run(tmp_path, text, checks=True, spec=spec)
-    assert stock._hull.exact and stock._blank_cells is None
+    assert stock.blank.hull.exact and stock.blank.cells is None
     monkeypatch.setattr(hull_module, "MAX_PLANES", 64)
     monkeypatch.setattr(Stock, "BLANK_CELL", 200)
     reduced, stock, _, _ = _run(tmp_path, text, checks=True, spec=spec)
-    assert not stock._hull.exact
+    assert not stock.blank.hull.exact
     assert any(f.kind == "holder_collision" for f in reduced.findings)
     assert found(reduced) == found(exact)
     # every probe through the cells (no vertex taken for inside at once)
     monkeypatch.setattr(Stock, "blank_holds", lambda self, p: np.zeros(len(np.reshape(p, (-1, 3))), bool))
     celled, stock, _, _ = _run(tmp_path, text, checks=True, spec=spec)
-    assert len(stock._blank_cells) > 1
+    assert len(stock.blank.cells) > 1
     assert found(celled) == found(exact)
 
 
@@ -212,7 +212,7 @@ def test_parts_beyond_a_face_of_the_blank_get_no_solids(tmp_path, monkeypatch):
         made.append(len(out))
         return out
 
-    monkeypatch.setattr(simulate_module, "part_solids", counted)
+    monkeypatch.setattr(stock_events, "part_solids", counted)
     text = HEAD + FIRST_TURN.replace("N170 G1 X9\n", "") + SECOND_TURN[SECOND_TURN.index("N230"):]
     sim, _, _, _ = _run(tmp_path, text, checks=True)
     assert sim.findings == [] and sum(made) == 0
@@ -225,7 +225,7 @@ def test_parts_beyond_a_face_of_the_blank_get_no_solids(tmp_path, monkeypatch):
     cutter = [Part("cutter", 0.0, tool.cutting_length, tool.radius)]
     tips, axes = np.array([[16.5, 0.0, -10.0]]), np.array([[1.0, 0.0, 0.0]])
     for gap, apart in ((1.0, True), (2.0, False)):
-        got = simulate_module._apart(stock.blank_planes(), cutter, tips, axes, [(0, 1)], np.ones(1, bool),
+        got = stock_events._apart(stock.blank_planes(), cutter, tips, axes, [(0, 1)], np.ones(1, bool),
                                      gap)
         assert got[0, 0] == apart
 

@@ -158,7 +158,7 @@ def test_the_milling_fixture_verifies_clean_and_makes_its_drawing(tmp_path):
 
 
 def test_a_rapid_retract_along_the_axis_is_no_near_miss_only_for_a_tool_that_does_not_widen(tmp_path):
-    from vmach.stock.simulate import retracts
+    from vmach.checks.stock_events import retracts
     from vmach.tooling.library import load_tools
 
     (tmp_path / "t.toml").write_text(TOOLS + DRILL + """

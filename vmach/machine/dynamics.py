@@ -17,12 +17,27 @@ An unknown key is reported (a misspelt time would silently count as 0 s).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Mapping
+from typing import Any, Protocol
 
 from vmach.machine.spec import TimingSpec
 
-if TYPE_CHECKING:
-    from vmach.machine.loader import Reader
+
+class Reader(Protocol):
+    """What the timing table is read with: the model loader's reader
+    (:class:`vmach.machine.loader.Reader`), named here by its shape so that this module does not
+    import the loader that imports it."""
+
+    raw: Mapping[str, Any]
+    problems: list
+
+    def table(self, value: Any, key: tuple, what: str) -> Mapping[str, Any]: ...
+
+    def scalar(self, value: Any, key: tuple, what: str) -> float | None: ...
+
+    def rate(self, value: Any, key: tuple, what: str) -> float | None: ...
+
+    def err(self, kind: str, msg: str, key: tuple, fallback: tuple = ("formula",)) -> None: ...
 
 TIMES = ("tool_change_s", "spindle_start_s", "spindle_stop_s", "spindle_change_s")
 

@@ -128,7 +128,7 @@ def part_deviation(report) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, t
     if report.profile is None or report.profile_spec is None:
         return v, f, None, None
     from vmach.checks.polygon import parse_profile
-    from vmach.report.pictures import deviation_per_vertex
+    from vmach.report.paths import deviation_per_vertex
 
     prof = parse_profile(report.profile_spec)
     z = [s["z"] for s in report.profile["stations"]]
@@ -146,7 +146,7 @@ def viewer_scene(report) -> dict | None:
     ``part`` (positions float32 (n*3), colours uint8 (n*3), indices uint32 (m*3)) when there is
     a cut part, ``path`` (segment end points float32 (s*2*3), kinds uint8 (s,): 0 rapid, 1 feed),
     ``places`` (findings: at, index, kind, severity, label), ``band`` and ``scale_mm``."""
-    from vmach.report.pictures import toolpath_segments
+    from vmach.report.paths import toolpath_segments
 
     table, model = report.table, report.model
     if table is None or model is None:

@@ -6,8 +6,12 @@ Public API::
     stock = Stock.from_spec("cylinder:d=60,l=100")
     stock.cut(tool, tips, axes)            # poses in the work frame, (n, 3) each
     stock.solid / stock.section(z) / stock.export("part.stl")
+    stock.provenance                       # (cutters, 2): the program rows of each cutter
 
-``vmach.stock.engine`` is the only module of the project that imports manifold3d.
+A path becomes a cut solid in three modules: :mod:`vmach.stock.plan` (the path into typed jobs,
+by the cutter strategies of :mod:`vmach.stock.strategies`), :mod:`vmach.stock.make` (jobs into
+trimmed cutters) and :mod:`vmach.stock.queue` (cutters subtracted in checked batches); see
+docs/stock.md. ``vmach.stock.engine`` is the only module of the project that imports manifold3d.
 """
 
 

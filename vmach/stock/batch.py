@@ -29,25 +29,6 @@ import numpy as np
 
 from vmach.stock import engine
 
-EMPTY_BOX = np.array([[np.inf] * 3, [-np.inf] * 3])
-
-
-def subtract_checked(solid: engine.Solid, volume: float, cutters: list[engine.Solid]
-                     ) -> tuple[engine.Solid, float]:
-    """``solid`` minus ``cutters``, evaluated and checked: (the result, its volume mm³).
-    Raises StockError unless it is a valid manifold whose volume did not grow."""
-    new = engine.subtract(solid, cutters)
-    engine.check(new, "stock")
-    vol = engine.volume(new)
-    if vol > volume * (1 + 1e-9) + 1e-9:
-        raise engine.StockError(f"stock volume grew from {volume:.6f} to {vol:.6f} mm³")
-    return new, vol
-
-
-def box_of(solid: engine.Solid) -> np.ndarray:
-    """(2, 3) float, mm: the solid's bounds (EMPTY_BOX when empty)."""
-    return engine.bounds(solid) if not engine.is_empty(solid) else EMPTY_BOX.copy()
-
 
 class Piece:
     """solid : engine.Solid; batch, spread, group : int (see the module docstring);
@@ -59,7 +40,7 @@ class Piece:
         engine.check(solid, "stock")
         self._solid = solid
         self._volume = engine.volume(solid)
-        self._box = box_of(solid)
+        self._box = engine.box_of(solid)
         self.batch = max(1, int(batch))
         self.spread = max(1, int(spread))
         self.group = max(1, int(group))
@@ -211,8 +192,8 @@ class Piece:
             else:
                 t0 = time.perf_counter()
                 cutters = [c for r in runs for c in take[starts[r] : starts[r + 1]]]
-                self._solid, self._volume = subtract_checked(self._solid, self._volume, cutters)
-                self._box = box_of(self._solid)
+                self._solid, self._volume = engine.subtract_checked(self._solid, self._volume, cutters)
+                self._box = engine.box_of(self._solid)
                 self._seconds += time.perf_counter() - t0
             self.batches += 1
             self.sent += count

@@ -14,7 +14,7 @@ Points on a face of Q are given that face's coordinate *exactly*, so the caps of
 cutters lie exactly in the same few axis-aligned planes, outside the stock. That is what makes
 it pay: the far ends of overlapping cutters (a radial tool's far face, a face mill's back)
 otherwise cross each other in the air in a dense arrangement which manifold3d computes for
-every batch union, and which is most of its work (measured in docs/stock.md). Exactly coplanar
+every batch union, and which is most of its work (measured: docs/stock-history.md). Exactly coplanar
 caps cost manifold3d almost nothing; caps that are only nearly coplanar (an oblique plane
 computed in floating point) cost more than no trimming at all — hence the axis-aligned box.
 
@@ -167,6 +167,20 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
     which, vert = np.nonzero(keep)
     idx: list[np.ndarray] = [which]
     pts: list[np.ndarray] = [Pt[which, vert]]
+    _edge_crossings(sh, Pt, blo, bhi, tlo, thi, idx, pts)
+    _box_edges_clipped(sh, rot[todo], t[todo], blo, bhi, tlo, thi, idx, pts)
+    allidx = np.concatenate(idx)
+    allpts = np.concatenate(pts)
+    order = np.argsort(allidx, kind="stable")
+    counts = np.bincount(allidx, minlength=c)
+    for k, chunk in zip(todo, np.split(allpts[order], np.cumsum(counts)[:-1]), strict=True):
+        out[k] = chunk if len(chunk) >= 4 else None
+    return out, inside
+
+
+def _edge_crossings(sh: Shape, Pt: np.ndarray, blo, bhi, tlo, thi, idx: list, pts: list) -> None:
+    """Where the copies' (c, p, 3) edges cross their boxes' faces, within the box: appended to
+    ``idx`` (copy) and ``pts`` (points)."""
     A, B = Pt[:, sh.edges[:, 0]], Pt[:, sh.edges[:, 1]]                      # (c, e, 3)
     for ax in range(3):
         other = [i for i in range(3) if i != ax]
@@ -188,6 +202,12 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
             ok = np.all((x[:, other] >= blo[which][:, other]) & (x[:, other] <= bhi[which][:, other]), axis=1)
             idx.append(which[ok])
             pts.append(x[ok])
+
+
+def _box_edges_clipped(sh: Shape, rot: np.ndarray, t: np.ndarray, blo, bhi, tlo, thi, idx: list,
+                       pts: list) -> None:
+    """The boxes' edges clipped by each copy's face planes (copies' rotations (c, 3, 3) and
+    translations (c, 3)): the segments' ends appended to ``idx`` and ``pts``."""
     # the box's edges clipped by each copy's face planes (Cyrus-Beck), for the edges that
     # pass through the copy's bounding box (no other can meet it)
     q0, dq = _box_edges(blo, bhi)                                             # (c, 12, 3)
@@ -195,8 +215,8 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
     w, edge = np.nonzero(near)
     if len(w):
         start, step = q0[w, edge], dq[w, edge]                                # (k, 3)
-        N = sh.planes[:, :3] @ rot[todo].transpose(0, 2, 1)                   # (c, f, 3)
-        D = sh.planes[None, :, 3] + np.matmul(N, t[todo][:, :, None])[:, :, 0]   # (c, f)
+        N = sh.planes[:, :3] @ rot.transpose(0, 2, 1)                   # (c, f, 3)
+        D = sh.planes[None, :, 3] + np.matmul(N, t[:, :, None])[:, :, 0]   # (c, f)
         Nk = N[w]                                                             # (k, f, 3)
         nd = np.matmul(Nk, step[:, :, None])[:, :, 0]                         # (k, f)
         num = D[w] - np.matmul(Nk, start[:, :, None])[:, :, 0]
@@ -211,10 +231,3 @@ def clip(sh: Shape, frames: np.ndarray, lo, hi) -> tuple[list[np.ndarray | None]
         for s_ in (s0[ok], s1[ok]):
             idx.append(w)
             pts.append(np.where(fixed, start, start + step * s_[:, None]))
-    allidx = np.concatenate(idx)
-    allpts = np.concatenate(pts)
-    order = np.argsort(allidx, kind="stable")
-    counts = np.bincount(allidx, minlength=c)
-    for k, chunk in zip(todo, np.split(allpts[order], np.cumsum(counts)[:-1]), strict=True):
-        out[k] = chunk if len(chunk) >= 4 else None
-    return out, inside

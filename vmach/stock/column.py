@@ -45,8 +45,9 @@ fans' bound:
   perpendicular to ω: the largest excess of the column's planes over the turn's polygon's
   corners) and must be within ``overcut``.
 - *Above the highest and below the lowest turn* H may bridge the ruled surfaces the tool's
-  side sweeps at its ±ω extremes, as a fan does: measured on the made solid (:class:`Stock`,
-  as for fans, with the bridges other poses of the path cut anyway not counted).
+  side sweeps at its ±ω extremes, as a fan does: measured on the made solid
+  (:mod:`vmach.stock.make_fans`, as for fans, with the bridges other poses of the path cut
+  anyway not counted).
 - *Outside the wedge* K removes nothing; the tools' parts there are swept by the same turns'
   neighbouring poses (the cell's stretch of fan steps goes on for a tool radius and more
   along the path on both sides, ``spill``), which their own cutters remove.
@@ -60,7 +61,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vmach.stock.fan import NO_FANS, PARALLEL, FanPlan, _basis
+from vmach.stock.fan import NO_FANS, PARALLEL, FanPlan
+from vmach.stock.fan_measure import basis
 from vmach.stock.halfplanes import face_lines, polygon
 from vmach.tol import tol
 
@@ -137,7 +139,7 @@ def plan_columns(tips: np.ndarray, axes: np.ndarray, fans: FanPlan, *, radius: f
 
 def _columns(tips, axes, omega, valid, radius, inner, sector, per_turn, turns, overcut, overlap):
     """The columns of one rotation axis ``omega`` over the fan steps ``valid`` (n-1,) bool."""
-    e1, e2 = _basis(omega)
+    e1, e2 = basis(omega)
     theta = np.degrees(np.unwrap(np.arctan2(axes @ e2, axes @ e1)))
     step = np.diff(theta)
     if not valid.any():
@@ -148,7 +150,7 @@ def _columns(tips, axes, omega, valid, radius, inner, sector, per_turn, turns, o
     h = tips @ omega
     travel = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(tips, axis=0), axis=1))]
     spill = radius + SPILL_MARGIN
-    u, v = _basis(omega)
+    u, v = basis(omega)
     lines = face_lines(tips, axes, u, v)
     # stretches of consecutive steps that turn forward about omega: poses s0 .. s1
     edges = np.diff(np.r_[0, ok.astype(np.int8), 0])
@@ -171,6 +173,13 @@ def _columns(tips, axes, omega, valid, radius, inner, sector, per_turn, turns, o
             if travel[a] - travel[s0] < spill or travel[s1] - travel[b] < spill:
                 continue        # the poses beside the cell must sweep the tool's parts outside
             cells[k] = (a, b)
+    return _stack(tips, axes, omega, h, th, cells, wedge, per_turn, turns, inner, overcut)
+
+
+def _stack(tips, axes, omega, h, th, cells: dict, wedge: dict, per_turn: int, turns: int, inner: float,
+           overcut: float) -> list[Column]:
+    """The columns of the cells (turn-sector k -> poses (a, b)): the same sector of up to
+    ``turns`` consecutive turns, each stack without its first or last turn of the whole path."""
     out = []
     groups: dict[tuple[int, int], list[int]] = {}
     for k in sorted(cells):
@@ -283,7 +292,7 @@ def _column(tips, axes, omega, h, cells, wedge, inner, overcut) -> Column | None
     heights = np.array([h[a : b + 1].mean() for a, b in cells])
     if not _stacked(heights, inner):
         return None
-    u, v = _basis(omega)
+    u, v = basis(omega)
     idx = np.concatenate([np.arange(a, b + 1) for a, b in cells])
     lines = face_lines(tips[idx], axes[idx], u, v)
     box = _box(tips[idx], u, v)

@@ -266,6 +266,25 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
     n_r, n_z = sd.along[:, 2], -np.einsum("pi,pi->p", sd.along[:, :2], radial)
     nrm = np.column_stack([radial * n_r[:, None], n_z])             # outward normals (P, 3)
     rot, t = frames[:, :, :3], frames[:, :, 3]
+    mat, shift = _displacement(rot, t, frames_a, frames_b)
+    # n·(M p + m) over the samples, without the (e, P, 3) displacements
+    g = (np.einsum("pi,eij,pj->ep", nrm, mat, pts, optimize=True) + shift @ nrm.T).reshape(e, -1, AROUND)
+    g1 = np.roll(g, -1, axis=2)
+    step, ring, i = np.nonzero((g > 0) != (g1 > 0))                  # a zero after sample i
+    out = np.zeros(e)
+    if len(step):
+        _lens_widths(out, g, g1, step, ring, i, pts, rho, rot, t, mat, shift, normal, parts, holds, height)
+    if face > 0:       # the flat face's chord RIM from its rim, where it makes a flank's foot
+        out = np.maximum(out, math.sqrt(2.0 * face * RIM))
+    return 1.25 * out + FIN_LEAST
+
+
+def _displacement(rot: np.ndarray, t: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """How a step (pose a to pose b, frames (e, 3, 4): the tip's travel and the axis's least
+    turn, no spin) moves a point p of poses (rotations ``rot`` (e, 3, 3), tips ``t`` (e, 3)),
+    in the pose's own frame: ``M p + m`` — (M (e, 3, 3), m (e, 3))."""
+    e = len(rot)
     ua, ub = frames_a[:, :, 2], frames_b[:, :, 2]
     k = np.cross(ua, ub)
     c = np.einsum("ei,ei->e", ua, ub)
@@ -273,35 +292,11 @@ def fin_widths(frames: np.ndarray, frames_a: np.ndarray, frames_b: np.ndarray, n
     kx[:, 0, 1], kx[:, 0, 2], kx[:, 1, 2] = -k[:, 2], k[:, 1], -k[:, 0]
     kx -= kx.transpose(0, 2, 1)
     turn = kx + np.matmul(kx, kx) / (1.0 + c)[:, None, None]        # R_min - I (Rodrigues)
-    # the displacement of a point p of the pose (tool frame), in the pose's frame: M p + m
     rt = rot.transpose(0, 2, 1)
     mat = np.matmul(rt, np.matmul(turn, rot))                        # (e, 3, 3)
     shift = np.einsum("eij,ej->ei", rt, np.einsum("eij,ej->ei", turn, t - frames_a[:, :, 3])
                       + frames_b[:, :, 3] - frames_a[:, :, 3])
-    # n·(M p + m) over the samples, without the (e, P, 3) displacements
-    g = (np.einsum("pi,eij,pj->ep", nrm, mat, pts, optimize=True) + shift @ nrm.T).reshape(e, -1, AROUND)
-    g1 = np.roll(g, -1, axis=2)
-    step, ring, i = np.nonzero((g > 0) != (g1 > 0))                  # a zero after sample i
-    out = np.zeros(e)
-    if len(step):
-        point = ring * AROUND + i
-        inside = holds(np.einsum("kij,kj->ki", rot[step], pts[point]) + t[step])
-        if height is not None:
-            inside &= pts[point, 2] <= np.asarray(height, dtype=float)[step]
-        step, ring, i, point = step[inside], ring[inside], i[inside], point[inside]
-        g0, g1 = g[step, ring, i], g1[step, ring, i]
-        base = np.arctan2(pts[point, 1], pts[point, 0])
-        at = base + (2.0 * np.pi / AROUND) * g0 / (g0 - g1)          # the zero, linearly between
-        nn = np.asarray(normal, dtype=float) / np.linalg.norm(normal)
-        r = rho[point]
-        offset = r * np.abs(np.cos(at) * nn[0] + np.sin(at) * nn[1])
-        d = np.einsum("kij,kj->ki", mat[step], pts[point]) + shift[step]
-        lens = np.linalg.norm(d, axis=1) / np.asarray(parts)[step]
-        slack = r * (2.0 * np.pi / AROUND) ** 2 / 8.0
-        np.maximum.at(out, step, offset + lens + slack)
-    if face > 0:       # the flat face's chord RIM from its rim, where it makes a flank's foot
-        out = np.maximum(out, math.sqrt(2.0 * face * RIM))
-    return 1.25 * out + FIN_LEAST
+    return mat, shift
 
 
 _OUTLINES: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
@@ -328,64 +323,23 @@ def face_radius(tool: Tool) -> float:
     return float(outline(tool)[1][0])
 
 
-def surface(tool: Tool) -> np.ndarray:
-    """Points (p, 3), tool frame, on the true tool's surface: the side's samples
-    (:func:`side`) and, for a flat end face, rings of it (AROUND per ring, 2 × SPACING apart)."""
-    pts = [side(tool).points]
-    zs, rs = outline(tool)
-    if rs[0] > 0:
-        ang = 2.0 * np.pi * (np.arange(AROUND) + 0.5) / AROUND
-        for r in np.linspace(rs[0], 0.0, max(2, math.ceil(rs[0] / (2 * SPACING))), endpoint=False):
-            pts.append(np.column_stack([r * np.cos(ang), r * np.sin(ang), np.zeros(AROUND)]))
-    return np.concatenate(pts)
-
-
-def fins_cover(tool: Tool, frames: np.ndarray, half: np.ndarray, which: np.ndarray, normal: np.ndarray,
-               holds, slack: float = 1e-3) -> np.ndarray:
-    """(w,) bool: which of the poses ``which`` (w,) int — of a path's poses (frames (n, 3, 4),
-    tool to work, joined by motion in order), each to be cut as its fin of half-width ``half``
-    (n,) mm (inf: whole; :func:`fin_widths`) — may be: every sample of the true tool's surface
-    at the pose (:func:`surface`) that may lie in the material (``holds``) and lies outside its
-    own slab ``|x·normal| <= half`` (tool frame) lies in the fin (or the whole tool) of another
-    pose of the path, to ``slack`` mm — the poses on either side, outward until the samples
-    are held or the next pose's tool lies beyond the tool's reach. The union of the fins then
-    holds what the whole poses would remove — a fin lies inside the true tool, so a pose whose
-    samples the others do not hold (a turn whose faces make a concave chain, a tool that also
-    moves along its side) stays whole."""
-    which = np.asarray(which, dtype=int)
-    out = np.ones(len(which), bool)
-    if len(which) == 0:
-        return out
-    pts = surface(tool)
-    zs, rs = outline(tool)
-    length = float(zs[-1])
-    nn = np.asarray(normal, dtype=float)
-    own = np.abs(pts @ nn)                                          # (p,) off the pose's plane
-    rot, tip = frames[:, :, :3], frames[:, :, 3]
-    reach = 2.0 * (length + float(rs.max()))
-    for k, i in enumerate(which):
-        off = own > half[i]
-        if not off.any():
-            continue
-        p = pts[off] @ rot[i].T + tip[i]                            # work frame
-        p = p[holds(p)]
-        # the other poses, nearest in the path first (i-1, i+1, i-2, ...), up to the first
-        # beyond the tool's reach
-        for c in range(1, len(frames), 4):
-            if len(p) == 0:
-                break
-            d = np.arange(c, c + 4)
-            j = np.stack([i - d, i + d], axis=1).ravel()
-            j = j[(j >= 0) & (j < len(frames))]
-            if len(j) == 0:
-                break
-            if np.any(np.linalg.norm(tip[j] - tip[i], axis=1) > reach):
-                break
-            local = (p - tip[j][:, None]) @ rot[j]                      # (j, m, 3), tool frames
-            z = local[..., 2]
-            inside = ((z >= -slack) & (z <= length + slack)
-                      & (np.hypot(local[..., 0], local[..., 1]) <= np.interp(z, zs, rs) + slack)
-                      & (np.abs(local @ nn) <= half[j][:, None] + slack))
-            p = p[~inside.any(axis=0)]
-        out[k] = len(p) == 0
-    return out
+def _lens_widths(out: np.ndarray, g, g1, step, ring, i, pts, rho, rot, t, mat, shift, normal, parts, holds,
+                 height) -> None:
+    """Into ``out`` (e,): per step, the largest envelope offset plus half the imprints' spacing
+    over the envelope's zeros (``step``, ``ring``, ``i``: a zero of ``g`` after sample i) that
+    may lie in the material (``holds``) and up to ``height``."""
+    point = ring * AROUND + i
+    inside = holds(np.einsum("kij,kj->ki", rot[step], pts[point]) + t[step])
+    if height is not None:
+        inside &= pts[point, 2] <= np.asarray(height, dtype=float)[step]
+    step, ring, i, point = step[inside], ring[inside], i[inside], point[inside]
+    g0, g1 = g[step, ring, i], g1[step, ring, i]
+    base = np.arctan2(pts[point, 1], pts[point, 0])
+    at = base + (2.0 * np.pi / AROUND) * g0 / (g0 - g1)          # the zero, linearly between
+    nn = np.asarray(normal, dtype=float) / np.linalg.norm(normal)
+    r = rho[point]
+    offset = r * np.abs(np.cos(at) * nn[0] + np.sin(at) * nn[1])
+    d = np.einsum("kij,kj->ki", mat[step], pts[point]) + shift[step]
+    lens = np.linalg.norm(d, axis=1) / np.asarray(parts)[step]
+    slack = r * (2.0 * np.pi / AROUND) ** 2 / 8.0
+    np.maximum.at(out, step, offset + lens + slack)

@@ -20,9 +20,10 @@ from vmach.findings import Finding
 Solid = m3d.Manifold
 
 __all__ = [
-    "Solid", "StockError", "box", "bounds", "centroid", "check", "cylinder", "empty", "from_arrays",
-    "from_mesh", "hull", "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles", "slice_polygons",
-    "split", "subtract", "to_arrays", "to_mesh", "transform", "trim", "union", "volume",
+    "EMPTY_BOX", "Solid", "StockError", "box", "box_of", "bounds", "centroid", "check", "cylinder", "empty",
+    "from_arrays", "from_mesh", "hull", "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles",
+    "slice_polygons",
+    "split", "subtract", "subtract_checked", "to_arrays", "to_mesh", "transform", "trim", "union", "volume",
 ]
 
 
@@ -247,6 +248,26 @@ def check(solid: Solid, what: str = "stock") -> None:
     status = solid.status()
     if status != m3d.Error.NoError:
         raise StockError(f"{what} is no longer a valid manifold ({status.name})")
+
+
+def subtract_checked(solid: Solid, volume_: float, cutters: Sequence[Solid]) -> tuple[Solid, float]:
+    """``solid`` minus ``cutters``, evaluated and checked: (the result, its volume mm³).
+    Raises StockError unless it is a valid manifold whose volume did not grow."""
+    new = subtract(solid, cutters)
+    check(new, "stock")
+    vol = volume(new)
+    if vol > volume_ * (1 + 1e-9) + 1e-9:
+        raise StockError(f"stock volume grew from {volume_:.6f} to {vol:.6f} mm³")
+    return new, vol
+
+
+#: (2, 3) the bounds of nothing: every box test against it fails
+EMPTY_BOX = np.array([[np.inf] * 3, [-np.inf] * 3])
+
+
+def box_of(solid: Solid) -> np.ndarray:
+    """(2, 3) float, mm: the solid's bounds (EMPTY_BOX when empty)."""
+    return bounds(solid) if not is_empty(solid) else EMPTY_BOX.copy()
 
 
 def is_empty(solid: Solid) -> bool:

@@ -4,7 +4,7 @@ column's rotation axis, where every face plane of its poses is a line).
 :func:`polygon` gives the corners of {x : a·x + b·y <= c for every line} inside a box in
 O(m log m) through the lines' dual (:func:`_hull2d`), or by clipping the box line by line
 (:func:`clip_box`) when no point strictly inside every half-plane is found. Used for the
-material M below a fan's or a column's face planes (:func:`vmach.stock.fan.material_points`)
+material M below a fan's or a column's face planes (:func:`vmach.stock.fan_measure.material_points`)
 and for how deep a column's face chain lies below a turn's own
 (:func:`vmach.stock.column.chain_depth`).
 

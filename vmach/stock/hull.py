@@ -214,8 +214,8 @@ _LAST: list = []   # [(solid, its hull_of)]: the last one asked for
 def hull_of(solid: engine.Solid) -> tuple[np.ndarray, np.ndarray, engine.Solid, np.ndarray, np.ndarray]:
     """The solid's mesh (vertices (v, 3) float, faces (f, 3) int; double precision), its convex
     hull and the hull's mesh. The last solid's answer is kept (solids do not change): loading a
-    mesh blank (:func:`as_hull`) and its stock's screening hull ask in turn — a second hull of
-    1.3 million triangles would cost 5 s."""
+    mesh blank (:func:`as_hull`) and its stock's screening hull ask in turn — a second hull of a
+    finely meshed blank costs seconds."""
     if _LAST and _LAST[0][0] is solid:
         return _LAST[0][1]
     v, f = engine.to_mesh(solid, double=True)

@@ -1,8 +1,8 @@
 """A piece of stock held by a worker process, which subtracts batches of cutters while the
 caller goes on making the next ones.
 
-manifold3d holds the GIL while it evaluates a boolean (docs/stock.md: a Python loop ran four
-times slower beside a boolean on another thread, 1.3 times beside one in another process), so
+manifold3d holds the GIL while it evaluates a boolean (a Python loop runs several times slower
+beside a boolean on another thread, hardly slower beside one in another process), so
 the sweep (Python and numpy, one core) and the booleans (manifold3d, both cores) overlap only
 in two processes. The worker is a fresh interpreter (``python -m vmach.stock.remote FD``, which
 imports manifold3d and numpy only): manifold3d's thread pool does not survive ``fork``.
@@ -11,7 +11,7 @@ Protocol, over a socket pair (``multiprocessing.connection``, numpy arrays pickl
 ``("solid", vertices, faces, volume)`` once, then ``("run", [(vertices, faces), ...])`` — a run
 of cutters, united at once and kept under its number (0, 1, … in the order sent) —,
 ``("batch", [run numbers], cutters)`` — the union of those runs' unions, subtracted and
-checked as :func:`vmach.stock.batch.subtract_checked` does, in the order sent, each answered
+checked as :func:`vmach.stock.engine.subtract_checked` does, in the order sent, each answered
 by ``("done", cutters subtracted so far)`` for a progress bar — and
 ``("snap", n)``, answered with the piece after every batch sent before it, its box,
 volume, the worker's boolean seconds and the first error (kind, message) if a batch failed
@@ -21,9 +21,8 @@ thousand triangles instead of the whole stock). All arrays in double precision (
 so the worker's batches are the caller's exactly.
 
 While any worker runs, the caller's BLAS (numpy's OpenBLAS) is held to one thread: its idle
-threads spin for a while after every matrix product, on the core the worker's booleans need.
-Measured on the reference program at `fine` (docs/stock.md): the main process's CPU −0.5 s,
-the whole run −0.3 s.
+threads spin for a while after every matrix product, on the core the worker's booleans need
+(measured: docs/stock-history.md).
 """
 
 from __future__ import annotations
@@ -42,7 +41,6 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from vmach.stock import engine
-from vmach.stock.batch import box_of, subtract_checked
 
 
 class _OneBlasThread:
@@ -221,7 +219,7 @@ def serve(conn: Connection) -> None:
         elif msg[0] == "batch" and error is None:
             t0 = time.perf_counter()
             try:
-                solid, volume = subtract_checked(solid, volume, [runs.pop(r) for r in msg[1]])
+                solid, volume = engine.subtract_checked(solid, volume, [runs.pop(r) for r in msg[1]])
                 done += msg[2]
             except engine.StockError as exc:
                 error = (exc.kind, str(exc))
@@ -235,7 +233,7 @@ def serve(conn: Connection) -> None:
                 part = engine.intersect(solid, engine.box(msg[2], msg[3]))
                 vol = engine.volume(part)
             arrays = engine.to_arrays(part) if error is None else (None, None)
-            box = box_of(part) if error is None else None
+            box = engine.box_of(part) if error is None else None
             conn.send(("snap", msg[1], *arrays, box, vol, seconds, error))
 
 

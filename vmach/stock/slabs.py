@@ -9,10 +9,9 @@ the finishing cutter works on is 53.6 mm across while the blank behind the shoul
 is the extent of the bins its Z range meets, grown by ``tol.trim_margin``, rounded outward
 to a grid, and then moved out by up to JITTER more, by an amount that differs from cutter to
 cutter (:func:`jitter`): neighbouring cutters then share no box plane. Exactly coplanar faces
-cost manifold3d's union of a batch more: on the finishing pass the unions alone took 2.5 s
-against 2.8–3.3 s with planes shared, the booleans 4.36 s against 4.73 s (means of four
-interleaved runs); a larger jitter makes the boxes, hence the fans' side lines, longer and
-the fans shorter, which gives the gain back.
+cost manifold3d's union of a batch more (measured: docs/stock-history.md); a larger jitter
+makes the boxes, hence the fans' side lines, longer and the fans shorter, which gives the gain
+back.
 
 Why that box holds the stock there: a closed surface's points inside a slab lie on triangles
 that meet the slab, and the solid's section is bounded by its surface, so the extent of those

@@ -14,17 +14,17 @@ class CutStats:
     and fan_poses : the poses they cover; fan_overcut_mm : the largest bridge of a fan's hull
     over the floor its tool's side sweeps, measured (mm), where no other pose of the path cuts
     anyway; fan_covered_mm : the largest such bridge where other poses of the path do (a
-    helix's other turns; :func:`vmach.stock.fan.covered`); cusp_poses : placed poses added
+    helix's other turns; :func:`vmach.stock.fan_measure.covered`); cusp_poses : placed poses added
     between samples against the cusps of a curved side (:mod:`vmach.stock.cusps`), and
     cusp_fins : those cut as their fin only (:func:`vmach.stock.cusps.fin_widths`); inner_fins :
-    placed poses between two placed rotary steps cut as their fin (:meth:`Stock._inner_fins`);
+    placed poses between two placed rotary steps cut as their fin (:mod:`vmach.stock.strategies.fins`);
     foot_steps : steps parted against the feet of a flat face's rim (:mod:`vmach.stock.feet`); columns :
     column cutters (:mod:`vmach.stock.column`) and column_cells : the turns' cells they hold;
     column_overcut_mm : the deepest a column's face chain lies below one of its turns' own, or
     its hull bridges a floor beyond what the path cuts anyway (mm; also in fan_overcut_mm);
     axial_runs : translation runs along the tool's axis cut as the tool at their inner pose
-    (:meth:`Stock._axial`); stacked_runs : runs cut in one hull with a run they stack on
-    (:func:`vmach.stock.sweep.stacked_runs`);
+    (:func:`vmach.stock.strategies.runs.claim_axial`); stacked_runs : runs cut in one hull
+    with a run they stack on (:func:`vmach.stock.sweep.stacked_runs`);
     sweep_seconds : making cutters; boolean_seconds : batch booleans (in the worker process
     too, where they overlap the sweep); wait_seconds : waiting for the worker.
     """

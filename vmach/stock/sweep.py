@@ -181,7 +181,7 @@ def stacked_runs(tips: np.ndarray, axes: np.ndarray, runs: np.ndarray, length: f
 
 
 # --------------------------------------------------------------------------------------------
-# Error bounds (docs/stock.md)
+# Error bounds (docs/stock.md, "Error budget")
 # --------------------------------------------------------------------------------------------
 
 

@@ -239,9 +239,8 @@ def _index(m: Motion, om: np.ndarray) -> tuple[_Index, ...] | None:
     path's ordinary steps, and apart from them the few whose turn, rise along omega or tool
     extent along it is well over the path's usual (``OUTLIER``: a rapid, an index
     of the rotary axis) — each part's search window and height span are its own largest
-    step's, so that a path's one long move does not widen every search (the polygon
-    program's finishing path: 4 of 6,762 steps turned up to 9° and rose 57 mm, the rest
-    ≤ 2.1° and 0.01 mm: the Ø40 rim bands' narrow search 1.7 million candidate pairs → 0.45 million)."""
+    step's, so that a path's one long move (a rapid within a finishing path) does not widen
+    every search."""
     t, ok = _planes(m, om)
     e1 = np.cross(om, [1.0, 0.0, 0.0] if abs(om[0]) < 0.9 else [0.0, 1.0, 0.0])
     e1 /= np.linalg.norm(e1)

@@ -1,0 +1,22 @@
+"""Cutter strategies: each claims part of a path and says how it is to be cut.
+
+The planner (:mod:`vmach.stock.plan`) runs them in this priority order; what none claims is
+cut as the tool placed at each sampled pose (exact at the poses; between them it leaves
+material only, within :func:`vmach.stock.sweep.scallop_bound`).
+
+1. :mod:`.runs` — translation runs: the hull of the tool at a run's two ends *is* the swept
+   volume of a straight move (exact); the placed poses on a run are left out; a run along the
+   tool's own axis with the stock in front of its back is cut as the tool at its inner pose
+   (exact: all it removes); runs that stack along the axis share one hull (exact: their union).
+2. :mod:`.fans` — rotary runs of a flat-faced prism: one fan cutter per run, or one column per
+   sector of consecutive helix turns. The only strategy that may remove more than the true
+   sweep: by at most ``tol.fan_overcut``, measured on every cutter made
+   (:mod:`vmach.stock.make_fans`).
+3. :mod:`.fins` — placed poses of a flat-faced prism between two rotary steps cut as their
+   fin only where the neighbours' fins hold the rest (the same material, to a sliver).
+4. :mod:`.cusps` — poses added inside rotary steps where a curved side (or a flat face's
+   rim's feet) would leave cusps over the stock's ``cusp`` (leaves material only, within it).
+
+A strategy reads the stock only through :class:`vmach.stock.view.View` (a snapshot) and other
+paths only through the optional coverage index (:class:`vmach.stock.sweeps.Others`).
+"""
