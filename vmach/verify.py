@@ -46,6 +46,9 @@ class VerifyOptions:
     clearance: float = 1.0  # near-miss distance for rapids, mm
     accuracy: str | None = None  # stock simulation preset (vmach.tol.ACCURACY); None: setup, else standard
     dialect: str | None = None  # None: by the extension, or the machine's (interpreters.dialect_for)
+    design: str | None = None  # the part's design (.stl/.3mf/.ply/.step), compared with the cut part
+    design_tolerance: str | None = None  # "+0.05/-0.02" mm (vmach.checks.design.parse_band)
+    design_offset: str | None = None  # "X,Y,Z" mm: the design moved in the workpiece frame
 
 
 @dataclass
@@ -69,6 +72,7 @@ class Report:
     library: Any = None  # vmach.tooling.ToolLibrary
     profile_spec: str | None = None
     accuracy: str = "standard"  # the stock simulation's preset (vmach.tol.ACCURACY)
+    design: Any = None  # vmach.checks.design_findings.DesignOutcome with --design
 
     @property
     def errors(self) -> int:
@@ -134,6 +138,7 @@ class Report:
             "findings": [_finding_json(f) for f in findings],
             "simulation": self.simulation(),
             "profile": self.profile,
+            "design": None if self.design is None else self.design.to_json(),
             "cycle_time_s": None if self.cycle is None else self.cycle["total_s"],
             "cycle_time": self.cycle,
             "images": dict(self.images),
@@ -228,6 +233,10 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         # the profile, its stations and fit are read now: a typo fails before the simulation
         profile_plan = (_profile_plan(report.profile_spec, options.profile_z or setup.profile_z, options)
                         if report.profile_spec else None)
+        if options.design:                # the design is read now too (vmach.checks.design_findings)
+            from vmach.checks.design_findings import plan_design
+
+            design_plan = plan_design(options.design, options.design_tolerance, options.design_offset)
 
     with clock("interpret"):
         dialect = interpreters.dialect_for(path, options.dialect, control.dialect)
@@ -264,8 +273,9 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             report.findings.extend(Finding("workpiece", "info", n) for n in notes)
     spec = report.stock_spec
     simulated = bool(spec) and library is not None     # the stock is cut
-    if options.export and not simulated:
-        raise InputError(f"--export needs a simulated stock: give {'--tools' if spec else '--stock'} "
+    if (options.export or options.design) and not simulated:
+        which = "export" if options.export else "design"
+        raise InputError(f"--{which} needs a simulated stock: give {'--tools' if spec else '--stock'} "
                          "(or name it in vmach.toml)", kind="usage")
     if simulated:
         with clock("stock"):
@@ -300,6 +310,13 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         if profile_plan is not None:
             with clock("profile"):
                 report.findings.extend(_profile(report, stock, report.profile_spec, profile_plan, options))
+        if options.design:
+            with clock("design"):
+                from vmach.checks.design_findings import check_design
+
+                report.design = check_design(design_plan, stock.solid, table, model, library,
+                                             stock.initial_bounds, options.out)
+                report.findings.extend(report.design.findings)
 
     if not simulated:
         _collisions(report, clock, model, table, library, options)

@@ -193,6 +193,10 @@ def make_pictures(report, out_dir: Path) -> dict[str, str]:
             f"{lo * 1000:+.1f}..{hi * 1000:+.1f} um, white = middle of the band",
         )
         images["part_deviation"] = "part_deviation.png"
+    if getattr(report, "design", None) is not None:
+        from vmach.checks.design_findings import design_picture
+
+        images.update(design_picture(report.design, out_dir))
     images.update(collision_pictures(report, out_dir))
     return images
 
