@@ -40,9 +40,10 @@ from vmach.stock import engine
 FORMATS = (".stl", ".3mf", ".ply", ".step", ".stp")
 
 #: at most this many points of a region go to the search for the lines that made it
-REGION_POINTS = 600
-#: mm: a region's faces thinner than this at their centre lie on a face the part and the design
-#: share (its flat rim, which the booleans keep as a sliver of no volume): left out of its box
+REGION_POINTS = 1500
+#: mm: a region's faces thinner than this (or than half the band) at their centre lie on a face
+#: the part and the design share (its flat rim, which the booleans keep as a sliver of no
+#: volume, or the simulation's own error): left out of its bounding box
 FLAT = 1e-3
 
 
@@ -133,7 +134,8 @@ def load_design(path: str | Path, offset: np.ndarray | None = None, chord: float
 @dataclass
 class Region:
     """One connected body of material removed inside the design (``gouge``) or left outside
-    it (``excess``), mm and mm³; ``points`` (k, 3) some of its vertices, the deepest first."""
+    it (``excess``), mm and mm³; ``points`` (k, 3) spread over the surface beyond the band
+    that a tool crossed (a gouge: the design's) or stopped at (excess: the part's)."""
 
     kind: str
     volume: float
@@ -221,8 +223,14 @@ def _regions(kind: str, body: engine.Solid, limit: float, to_design: SignedDista
     beyond = np.zeros(len(f), dtype=bool)
     thick_face = np.zeros(len(f), dtype=bool)
     at_design = np.abs(to_design(centre[sel]))
+    at_part = np.abs(to_part(centre[sel]))
     beyond[sel] = at_design > limit
-    thick_face[sel] = np.maximum(at_design, np.abs(to_part(centre[sel]))) > FLAT
+    thick_face[sel] = np.maximum(at_design, at_part) > max(FLAT, limit / 2)
+    # the surface a tool should not have crossed (a gouge: the design's, its distance to the
+    # part beyond the band) or should have reached (excess: the part's, left by the tool)
+    tool_side = np.zeros(len(f), dtype=bool)
+    tool_side[sel] = ((at_design <= at_part) & (at_part > limit) if kind == "gouge"
+                      else (at_part <= at_design) & (at_design > limit))
     out = []
     for k in keep:
         fk = face_label == k
@@ -234,9 +242,35 @@ def _regions(kind: str, body: engine.Solid, limit: float, to_design: SignedDista
         # the corners of faces that have depth: not the flat rims along shared faces
         near = f[(face_label == k) & thick_face].ravel()
         box = v[near if len(near) else idx]
-        step = max(1, len(order) // REGION_POINTS)
-        pts = np.vstack([v[order[:REGION_POINTS // 4]], v[order[::step]]])
+        side = fk & tool_side
+        if side.any():
+            pts = surface_points(a[side], b[side], c[side], REGION_POINTS)
+        else:
+            pts = v[order[:: max(1, len(order) // REGION_POINTS)]]
         out.append(Region(kind, abs(vol), float(deep[k]), float(area[fk & beyond].sum()), cen,
                           np.stack([box.min(axis=0), box.max(axis=0)]), v[order[0]], pts))
     out.sort(key=lambda r: -r.depth)
     return out
+
+
+def surface_points(a: np.ndarray, b: np.ndarray, c: np.ndarray, most: int) -> np.ndarray:
+    """About ``most`` points (k, 3) spread evenly over triangles (a, b, c) (m, 3) mm: the
+    centroids of each triangle's sub-triangles in an m-fold subdivision, m from its longest
+    edge and one spacing for all."""
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    spacing = max(math.sqrt(max(float(area.sum()), 1e-12) * 2.0 / most), 1e-3)
+    longest = np.max([np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1),
+                      np.linalg.norm(a - c, axis=1)], axis=0)
+    m = np.clip(np.ceil(longest / spacing), 1, 64).astype(int)
+    out = []
+    for k in np.unique(m):
+        i, j = np.meshgrid(np.arange(k), np.arange(k), indexing="ij")
+        ok = i + j <= k - 1
+        u = (i[ok] + 1 / 3) / k
+        w = (j[ok] + 1 / 3) / k
+        t = m == k
+        out.append((a[t, None, :] + (b - a)[t, None, :] * u[None, :, None]
+                    + (c - a)[t, None, :] * w[None, :, None]).reshape(-1, 3))
+    pts = np.vstack(out)
+    step = max(1, len(pts) // most)
+    return pts[::step]

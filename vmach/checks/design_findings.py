@@ -28,6 +28,10 @@ from vmach.findings import Finding
 #: mm a design may reach beyond the blank before its placement is doubted
 PLACEMENT_SLACK = 0.1
 ARRAYS = "design_deviation.npz"
+#: mm: a gouge's maker holds a point of the design's surface inside its tool (the simulated
+#: tool's polygon may lie this far inside the true one); excess lies at most this far from the
+#: surface the tool left
+INSIDE, AT_SURFACE = 0.01, 0.05
 
 
 @dataclass(frozen=True)
@@ -89,8 +93,8 @@ def check_design(plan: DesignPlan, part, table, model, library, blank_bounds, ou
             "design_placement", "warning",
             f"the design reaches {beyond:.3f} mm beyond the blank: is it placed in the workpiece "
             "frame? (--design-offset X,Y,Z moves it)", data={"beyond_mm": round(beyond, 4)}))
-    slack = max(0.05, plan.band.hi, -plan.band.lo)
-    touches = touching_rows(table, model, library, [r.points for r in comp.regions], slack=slack)
+    touches = [touching_rows(table, model, library, [r.points],
+                             slack=INSIDE if r.kind == "gouge" else AT_SURFACE)[0] for r in comp.regions]
     for number, (region, touch) in enumerate(zip(comp.regions, touches, strict=True), start=1):
         outcome.findings.append(_finding(number, region, touch, table, plan.band))
     if out is not None:
