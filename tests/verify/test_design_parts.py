@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import trimesh
+from stepfile import box_step
 
 from vmach.checks.design import Band, compare, load_design, parse_band, parse_offset
 from vmach.checks.distance import SignedDistance
@@ -72,19 +73,23 @@ def test_the_loader_refuses_open_meshes_unknown_formats_and_missing_files(tmp_pa
         load_design(tmp_path / "junk.stl")
 
 
-def test_step_without_cascadio_is_a_clear_error(tmp_path):
-    pytest.importorskip("trimesh")
+def test_a_step_design_is_read_in_mm_or_refused_clearly_without_cascadio(tmp_path):
+    """STEP goes through trimesh and cascadio (the optional extra vmach[step]): with it, our
+    own STEP box comes back in mm (cascadio writes glTF, in metres); without it, the error
+    says what to install."""
+    path = tmp_path / "box.step"
+    path.write_text(box_step((-5, -10, -3), (5, 10, 0)))
     try:
         import cascadio  # noqa: F401
     except ImportError:
-        (tmp_path / "part.step").write_text("ISO-10303-21;\nEND-ISO-10303-21;\n")
         with pytest.raises(InputError) as exc:
-            load_design(tmp_path / "part.step")
-        assert exc.value.kind == "design_format"
-    else:  # with cascadio, a STEP file without a solid is refused as such, not a traceback
-        (tmp_path / "part.step").write_text("ISO-10303-21;\nEND-ISO-10303-21;\n")
-        with pytest.raises(InputError):
-            load_design(tmp_path / "part.step")
+            load_design(path)
+        assert exc.value.kind == "design_format" and "cascadio" in str(exc.value)
+        return
+    v, f = load_design(path)
+    assert np.allclose(v.min(axis=0), [-5, -10, -3], atol=1e-5)
+    assert np.allclose(v.max(axis=0), [5, 10, 0], atol=1e-5)
+    assert trimesh.Trimesh(v, f).volume == pytest.approx(600.0, rel=1e-6)
 
 
 def test_signed_distance_of_a_box_is_exact_inside_and_outside():

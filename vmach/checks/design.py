@@ -113,11 +113,15 @@ def load_design(path: str | Path, offset: np.ndarray | None = None, chord: float
             raise InputError(f"{path}: reading STEP needs cascadio (OpenCASCADE): pip install "
                              "'vmach[step]', or export the design as STL/3MF/PLY",
                              kind="design_format") from None
-        kwargs = {"tol_linear": chord, "tol_angular": 0.5, "tol_relative": False}
+        kwargs = {"tol_linear": chord, "tol_angular": 0.5, "tol_relative": False}  # mm, radians
     try:
         mesh = trimesh.load(str(p), force="mesh", process=True, **kwargs)
     except Exception as exc:  # trimesh raises many kinds on a broken file
         raise InputError(f"{path}: cannot read the design: {exc}", kind="unreadable") from None
+    if getattr(mesh, "units", None) not in (None, "mm", "millimeters", "millimeter"):
+        mesh.convert_units("millimeters")    # STEP comes through glTF, which is in metres
+    if hasattr(mesh, "merge_vertices"):      # by position only: a STEP's faces come apart by normals
+        mesh.merge_vertices(merge_tex=True, merge_norm=True)
     v = np.asarray(getattr(mesh, "vertices", np.zeros((0, 3))), dtype=float)
     f = np.asarray(getattr(mesh, "faces", np.zeros((0, 3))), dtype=np.int64)
     if len(f) < 4:

@@ -128,5 +128,10 @@ def summary(report, out: Path) -> str:
             f"profile {p['type']} d1={p['d1']}: max |deviation| {p['max_abs_deviation_mm']:.4f} mm, "
             f"band {p['tolerance_mm']}: {'PASS' if p['pass'] else 'FAIL'}"
         )
+    if d.get("design"):
+        g = d["design"]
+        lo, hi = g["tolerance_mm"]
+        lines.append(f"design {g['path']}: deviation -{g['max_gouge_mm']:.4f}…+{g['max_excess_mm']:.4f} mm, "
+                     f"band {lo:+g}/{hi:+g}: {g['gouges']} gouge(s), {g['excess']} excess region(s)")
     lines.append(f"report: {out / 'report.json'}")
     return "\n".join(lines)
