@@ -93,8 +93,8 @@ def check_design(plan: DesignPlan, part, table, model, library, blank_bounds, ou
             "design_placement", "warning",
             f"the design reaches {beyond:.3f} mm beyond the blank: is it placed in the workpiece "
             "frame? (--design-offset X,Y,Z moves it)", data={"beyond_mm": round(beyond, 4)}))
-    touches = [touching_rows(table, model, library, [r.points],
-                             slack=INSIDE if r.kind == "gouge" else AT_SURFACE)[0] for r in comp.regions]
+    touches = touching_rows(table, model, library, [r.points for r in comp.regions],
+                            slack=[INSIDE if r.kind == "gouge" else AT_SURFACE for r in comp.regions])
     for number, (region, touch) in enumerate(zip(comp.regions, touches, strict=True), start=1):
         outcome.findings.append(_finding(number, region, touch, table, plan.band))
     if out is not None:

@@ -64,10 +64,12 @@ def _outside(points: np.ndarray, tips: np.ndarray, axes: np.ndarray, zr, length:
     return np.maximum(np.maximum(rho - radius, -u), u - length)
 
 
-def touching_rows(table, model, library, regions: list[np.ndarray], slack: float = 0.05,
+def touching_rows(table, model, library, regions: list[np.ndarray], slack=0.05,
                   near: float = 5.0) -> list[Touch]:
     """For each array of points (k, 3) mm in ``regions``, the rows whose tools touch them
-    (see the module docstring). ``library``: the tool library (``lookup(name)``)."""
+    (see the module docstring). ``library``: the tool library (``lookup(name)``); ``slack``:
+    mm, one for all regions or a sequence of one per region."""
+    slacks = np.broadcast_to(np.asarray(slack, dtype=float), (len(regions),))
     n = len(table)
     empty = Touch(np.zeros(0, int), np.zeros(0, int), None, False, np.zeros(0))
     if n == 0 or library is None or not regions:
@@ -104,16 +106,25 @@ def touching_rows(table, model, library, regions: list[np.ndarray], slack: float
     top = tips + ax * length[:, None]
     lo = np.minimum(tips, top) - radius[:, None]
     hi = np.maximum(tips, top) + radius[:, None]
+    # a ball about each sample's cutting part holds it: its centre and radius
+    centre = tips + ax * (length / 2)[:, None]
+    ball = np.hypot(radius, length / 2)
     out = []
-    for pts in regions:
+    for pts, sl in zip(regions, slacks, strict=True):
         pts = np.asarray(pts, dtype=float).reshape(-1, 3)
-        out.append(_touch(pts, tips, ax, lo, hi, row_of, tool_at, tools, slack, near))
+        out.append(_touch(pts, tips, ax, lo, hi, centre, ball, row_of, tool_at, tools, float(sl), near))
     return out
 
 
-def _touch(pts, tips, ax, lo, hi, row_of, tool_at, tools, slack, near) -> Touch:
+def _touch(pts, tips, ax, lo, hi, centre, ball, row_of, tool_at, tools, slack, near) -> Touch:
+    from scipy.spatial import cKDTree
+
     box_lo, box_hi = pts.min(axis=0) - near, pts.max(axis=0) + near
     cand = np.flatnonzero(np.all((lo <= box_hi) & (hi >= box_lo), axis=1))
+    if len(cand) and len(pts):
+        # only samples whose ball comes within reach of a point (nearest point by a k-d tree)
+        gap, _ = cKDTree(pts).query(centre[cand])
+        cand = cand[gap <= ball[cand] + near]
     best = np.full(len(cand), np.inf)                # each sample's closest approach
     first_hit = np.zeros(len(cand), dtype=bool)      # touches the first (deepest) point
     hits = np.zeros(len(cand), dtype=int)
