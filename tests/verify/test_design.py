@@ -62,11 +62,17 @@ def _design_findings(report: dict) -> list[dict]:
     return [f for f in report["findings"] if f["kind"].startswith("design_")]
 
 
-def test_the_fixture_against_its_own_part_has_no_design_findings(design):
+def _check(design, name: str, *extra, replace=None) -> tuple[int, dict, str]:
+    """Verify the fixture (``replace``: (old, new) text) in ``name`` against the exported part."""
     root, part = design
-    prog, _ = _program(root / "again")
-    rc, report = _verify(prog, root / "out_again", "--no-images", "--design", str(part),
-                         "--design-tolerance", "+0.05/-0.02")
+    prog, text = _program(root / name, replace)
+    rc, report = _verify(prog, root / f"out_{name}", "--design", str(part), *extra)
+    return rc, report, text
+
+
+def test_the_fixture_against_its_own_part_has_no_design_findings(design):
+    root, _ = design
+    rc, report, _ = _check(design, "again", "--no-images", "--design-tolerance", "+0.05/-0.02")
     assert rc == 0
     assert _design_findings(report) == []
     d = report["design"]
@@ -81,9 +87,8 @@ def test_the_fixture_against_its_own_part_has_no_design_findings(design):
 
 
 def test_an_outline_milled_too_deep_is_one_gouge_naming_the_outline(design):
-    root, part = design
-    prog, text = _program(root / "deep", ("N50 G1 Z-6 F300", "N50 G1 Z-6.2 F300"))
-    rc, report = _verify(prog, root / "out_deep", "--design", str(part))
+    root, _ = design
+    rc, report, text = _check(design, "deep", replace=("N50 G1 Z-6 F300", "N50 G1 Z-6.2 F300"))
     assert rc == 1
     found = _design_findings(report)
     assert [f["kind"] for f in found] == ["design_gouge"]
@@ -112,9 +117,8 @@ def test_an_outline_milled_too_deep_is_one_gouge_naming_the_outline(design):
 
 
 def test_holes_drilled_short_are_excess_at_each_hole_naming_the_cycle(design):
-    root, part = design
-    prog, text = _program(root / "short", ("CYCLE81(5, 0, 2, -8)", "CYCLE81(5, 0, 2, -7)"))
-    rc, report = _verify(prog, root / "out_short", "--no-images", "--design", str(part))
+    rc, report, text = _check(design, "short", "--no-images",
+                              replace=("CYCLE81(5, 0, 2, -8)", "CYCLE81(5, 0, 2, -7)"))
     assert rc == 1
     found = _design_findings(report)
     assert [f["kind"] for f in found] == ["design_excess"] * 4
@@ -136,10 +140,7 @@ def test_holes_drilled_short_are_excess_at_each_hole_naming_the_cycle(design):
 
 
 def test_a_design_moved_off_the_part_says_so(design):
-    root, part = design
-    prog, _ = _program(root / "moved")
-    rc, report = _verify(prog, root / "out_moved", "--no-images", "--design", str(part),
-                         "--design-offset", "0,0,0.3")
+    rc, report, _ = _check(design, "moved", "--no-images", "--design-offset", "0,0,0.3")
     assert rc == 1
     kinds = [f["kind"] for f in _design_findings(report)]
     assert "design_placement" in kinds and "design_gouge" in kinds and "design_excess" in kinds

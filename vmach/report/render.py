@@ -129,6 +129,17 @@ def _camera(plotter, view: str) -> None:
     plotter.reset_camera()
 
 
+def _finish_part(plotter, path: Path, title: str) -> Path:
+    """Title, the part seen from above and aside, and the PNG written."""
+    if title:
+        plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
+    plotter.camera_position = "xy"
+    plotter.camera.elevation = 35
+    plotter.camera.azimuth = 20
+    plotter.reset_camera()
+    return _save(plotter, path)
+
+
 def part_deviation_png(
     path: str | Path,
     vertices: np.ndarray,
@@ -165,13 +176,7 @@ def part_deviation_png(
             "height": 0.6,
         },
     )
-    if title:
-        plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
-    plotter.camera_position = "xy"
-    plotter.camera.elevation = 35
-    plotter.camera.azimuth = 20
-    plotter.reset_camera()
-    return _save(plotter, Path(path))
+    return _finish_part(plotter, Path(path), title)
 
 
 #: colours of a part against its design: gouge, within the band, excess (RGB 0..255)
@@ -220,13 +225,7 @@ def design_deviation_png(
     legend = (f"blue: gouge (below {lo:+.3f} mm)   red: excess (above {hi:+.3f} mm)   "
               "grey: within the band")
     plotter.add_text(legend, font_size=9, color=FOREGROUND, position="lower_left")
-    if title:
-        plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
-    plotter.camera_position = "xy"
-    plotter.camera.elevation = 35
-    plotter.camera.azimuth = 20
-    plotter.reset_camera()
-    return _save(plotter, Path(path))
+    return _finish_part(plotter, Path(path), title)
 
 
 def toolpath_png(
