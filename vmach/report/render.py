@@ -216,7 +216,7 @@ def design_deviation_png(
     pv, plotter = _plotter(size)
     mesh = pv.PolyData(np.asarray(vertices, float), _faces(faces))
     mesh.point_data["colour"] = design_colours(deviation, band)
-    plotter.add_mesh(mesh, scalars="colour", rgb=True, smooth_shading=False)
+    plotter.add_mesh(mesh, scalars="colour", rgb=True, smooth_shading=False, ambient=0.45, diffuse=0.6)
     if labels:
         plotter.add_point_labels(np.array([p for p, _ in labels], dtype=float), [t for _, t in labels],
                                  font_size=14, text_color=FOREGROUND, point_color="black",
