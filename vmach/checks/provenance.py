@@ -14,16 +14,16 @@ tool library, never the stock's own records, so it does not depend on how the st
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 #: mm of tip travel and degrees of rotation between tool samples along a row
 STEP = 0.5
 TURN = 1.0
-#: region points tested against tool samples at a time (memory: CHUNK × samples floats)
-CHUNK = 4_000_000
 
 
 @dataclass(frozen=True)
@@ -54,12 +54,12 @@ def _radius_function(tool) -> tuple[np.ndarray, np.ndarray]:
 
 def _outside(points: np.ndarray, tips: np.ndarray, axes: np.ndarray, zr, length: float
              ) -> np.ndarray:
-    """How far points (k, 3) lie outside tool samples (s,) at tips (s, 3) along unit axes
-    (s, 3): (k, s) mm, <= 0 inside (an estimate outside the tool: the larger of the radial and
-    the axial excess, never more than the true distance)."""
-    rel = points[:, None, :] - tips[None, :, :]
-    u = np.einsum("ksj,sj->ks", rel, axes)
-    rho = np.sqrt(np.maximum(np.einsum("ksj,ksj->ks", rel, rel) - u * u, 0.0))
+    """How far points (k, 3) lie outside the tool samples at tips (k, 3) along unit axes
+    (k, 3), pair by pair: (k,) mm, <= 0 inside (an estimate outside the tool: the larger of
+    the radial and the axial excess, never more than the true distance)."""
+    rel = points - tips
+    u = np.einsum("kj,kj->k", rel, axes)
+    rho = np.sqrt(np.maximum(np.einsum("kj,kj->k", rel, rel) - u * u, 0.0))
     radius = np.interp(np.clip(u, 0.0, length), zr[0], zr[1])
     return np.maximum(np.maximum(rho - radius, -u), u - length)
 
@@ -116,34 +116,49 @@ def touching_rows(table, model, library, regions: list[np.ndarray], slack=0.05,
     return out
 
 
-def _touch(pts, tips, ax, lo, hi, centre, ball, row_of, tool_at, tools, slack, near) -> Touch:
-    from scipy.spatial import cKDTree
+def _approach(pts, tree, cand, tips, ax, centre, ball, tool_at, tools, slack, reach):
+    """For samples ``cand`` (c,): the closest approach of each to the points (c,) mm (inf when
+    none lies within ``reach`` of its ball), the points it touches (c,) int, and whether it
+    touches the first point (c,) bool. Only the (sample, point) pairs within reach of the
+    sample's ball are measured (a k-d tree of the points)."""
+    best = np.full(len(cand), np.inf)
+    hits = np.zeros(len(cand), dtype=int)
+    first_hit = np.zeros(len(cand), dtype=bool)
+    if tree is None or not len(cand):
+        return best, hits, first_hit
+    near = tree.query_ball_point(centre[cand], ball[cand] + reach)
+    count = np.fromiter((len(x) for x in near), dtype=np.int64, count=len(cand))
+    if not count.sum():
+        return best, hits, first_hit
+    si = np.repeat(np.arange(len(cand)), count)                    # sample of each pair
+    pi = np.fromiter(itertools.chain.from_iterable(near), dtype=np.int64, count=int(count.sum()))
+    e = np.empty(len(si))
+    for ti in np.unique(tool_at[cand[si]]):
+        tool = tools[int(ti)]
+        m = tool_at[cand[si]] == ti
+        j = cand[si[m]]
+        e[m] = _outside(pts[pi[m]], tips[j], ax[j], _radius_function(tool), tool.cutting_length)
+    np.minimum.at(best, si, e)
+    np.add.at(hits, si, e <= slack)
+    first_hit[si[(pi == 0) & (e <= slack)]] = True
+    return best, hits, first_hit
 
+
+def _touch(pts, tips, ax, lo, hi, centre, ball, row_of, tool_at, tools, slack, near) -> Touch:
     box_lo, box_hi = pts.min(axis=0) - near, pts.max(axis=0) + near
     cand = np.flatnonzero(np.all((lo <= box_hi) & (hi >= box_lo), axis=1))
-    if len(cand) and len(pts):
-        # only samples whose ball comes within reach of a point (nearest point by a k-d tree)
-        gap, _ = cKDTree(pts).query(centre[cand])
-        cand = cand[gap <= ball[cand] + near]
-    best = np.full(len(cand), np.inf)                # each sample's closest approach
-    first_hit = np.zeros(len(cand), dtype=bool)      # touches the first (deepest) point
-    hits = np.zeros(len(cand), dtype=int)
-    for ti in np.unique(tool_at[cand]):
-        tool = tools[int(ti)]
-        zr = _radius_function(tool)
-        sel = np.flatnonzero(tool_at[cand] == ti)
-        step = max(1, CHUNK // max(1, len(pts)))
-        for s in range(0, len(sel), step):
-            j = sel[s:s + step]
-            e = _outside(pts, tips[cand[j]], ax[cand[j]], zr, tool.cutting_length)
-            best[j] = e.min(axis=0)
-            first_hit[j] = e[0] <= slack
-            hits[j] = (e <= slack).sum(axis=0)
+    tree = cKDTree(pts) if len(pts) else None
+    best = hits = first_hit = np.zeros(0)
+    for reach in (slack, near):          # the touching samples; failing those, the nearest
+        best, hits, first_hit = _approach(pts, tree, cand, tips, ax, centre, ball, tool_at, tools,
+                                          slack, reach)
+        if (best <= slack).any():
+            break
     rows_c = row_of[cand]
-    if not len(rows_c):
+    if not len(rows_c) or not np.isfinite(best).any():
         return Touch(np.zeros(0, int), np.zeros(0, int), None, False, np.zeros(0))
     touching = bool((best <= slack).any())
-    pick = best <= slack if touching else best <= best.min() + min(near, max(slack, 0.5))
+    pick = best <= slack if touching else best <= best[np.isfinite(best)].min() + min(near, max(slack, 0.5))
     rows, inv = np.unique(rows_c[pick], return_inverse=True)
     row_hits = np.zeros(len(rows), dtype=int)
     np.maximum.at(row_hits, inv, hits[pick])
