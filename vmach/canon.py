@@ -86,6 +86,11 @@ class ControlSpec:
     dialect : str or None
         The machine's control language (``"sinumerik"``, ``"rs274ngc"``): it reads programs
         whose extension does not say (``.nc``); None: not declared.
+    machine_data : mapping
+        The control's data a program may read, by name with ``$`` (``"$MA_POS_LIMIT_PLUS"``):
+        machine and setting data, swivel data (``$TC_CARR``), PLC and I/O start values. A value
+        is a number or string; an indexed datum is a mapping from index (an int, an axis name,
+        or a tuple of them) to its value. Lengths mm, angles degrees, rates mm/min or deg/min.
     """
 
     axes: tuple[AxisSpec, ...] = ()
@@ -98,6 +103,7 @@ class ControlSpec:
     spindles: tuple[int, ...] = (1,)
     master_spindle: int = 1
     dialect: str | None = None
+    machine_data: Mapping[str, Any] = field(default_factory=dict)
 
     def axis(self, name: str) -> AxisSpec | None:
         for a in self.axes:
@@ -350,6 +356,22 @@ class Message(Command):
 
 
 @dataclass(frozen=True, slots=True)
+class SetVariable(Command):
+    """A program wrote a control variable that leaves the NC (PLC data ``$A_DBB``, outputs
+    ``$A_OUT``, synchronised-action markers): recorded, no effect on geometry.
+
+    name : str — as written, with its index (``$A_OUT[3]``); value : number or string.
+    """
+
+    name: str = ""
+    value: Any = 0
+    kind: ClassVar[str] = "set_variable"
+
+    def fields(self) -> dict[str, Any]:
+        return {"name": self.name, "value": self.value}
+
+
+@dataclass(frozen=True, slots=True)
 class Comment(Command):
     """A comment the interpreter passes on (RS274 ``( ... )``)."""
 
@@ -433,11 +455,15 @@ class RunOptions:
     tool_radius : ``(tool, D number) -> radius`` (mm, or None for an offset the tool lacks),
         for tool radius compensation (G41/G42); the tool as :class:`ToolChange` names it
         (``"GLOD D40"``, ``"1"``). None when no tool library was given.
+    tool_data : ``(tool, D number) -> {"length": mm, "radius": mm, "type": int, "teeth": int}``
+        (None for an offset the tool lacks), for the control's tool data (``$TC_DP``); None
+        when no tool library was given.
     """
 
     max_blocks: int = 10_000_000
     max_call_depth: int = 16
     tool_radius: Callable[[str, int], float | None] | None = None
+    tool_data: Callable[[str, int], Mapping[str, float] | None] | None = None
 
 
 @dataclass(slots=True)

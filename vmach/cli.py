@@ -26,6 +26,21 @@ COMMANDS: dict[str, str] = {
     "ik": "vmach.commands.ik",
     "postcheck": "vmach.commands.postcheck",
     "profile": "vmach.commands.profile",
+    "machines": "vmach.commands.machines",
+}
+
+#: the one-line help of each command, so that ``vmach --help`` and ``vmach --version`` import
+#: no command module (each pulls numpy and more); a command missing here is imported for its
+#: help (tests/test_cli_startup.py holds these equal to the modules' ``HELP``)
+HELPS: dict[str, str] = {
+    "check": "check a program without running it: syntax, unknown words, jumps, structure",
+    "run": "run a program and print the canonical commands it produces",
+    "verify": "verify a program on a machine: limits, collisions, stock, profile, cycle time, report",
+    "fk": "forward kinematics: axis values -> tool tip and axis in the workpiece frame",
+    "ik": "inverse kinematics: tool tip and axis in the workpiece frame -> axis values",
+    "postcheck": "check post-processed G-code against the CAM cutter-location (APT CL) data",
+    "profile": "print the sizes of a DIN 32711 P3G / DIN 32712 P4C profile (and draw it with --png)",
+    "machines": "list the bundled machine models, one line each",
 }
 
 
@@ -53,27 +68,51 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(2)
 
 
-def build_parser() -> tuple[argparse.ArgumentParser, dict[str, object]]:
+def _module(modname: str):
+    """The command's module, or None when it does not exist (yet)."""
+    try:
+        return importlib.import_module(modname)
+    except ModuleNotFoundError as exc:
+        if exc.name == modname:
+            return None
+        raise
+
+
+def build_parser(only: str | None = None) -> tuple[argparse.ArgumentParser, dict[str, object]]:
+    """The parser with every command; the arguments of ``only`` (when given) or of every
+    command. Only the modules whose arguments are added are imported: ``vmach --version``
+    and ``vmach check`` do not pay for the libraries of ``verify`` (benchmarks/startup.py)."""
     parser = _Parser(prog="vmach", description="G-code verifier and virtual machine simulator.")
     parser.add_argument("--version", action="version", version=f"vmach {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     modules: dict[str, object] = {}
     for name, modname in COMMANDS.items():
-        try:
-            mod = importlib.import_module(modname)
-        except ModuleNotFoundError as exc:
-            if exc.name == modname:
-                continue
-            raise
+        if only is not None and name != only and name in HELPS:
+            sub.add_parser(name, help=HELPS[name], description=HELPS[name])
+            continue
+        mod = _module(modname)
+        if mod is None:
+            continue
         p = sub.add_parser(name, help=mod.HELP, description=mod.HELP)
         mod.add_arguments(p)
         modules[name] = mod
     return parser, modules
 
 
+def _command(argv: Sequence[str]) -> str:
+    """The command named in ``argv`` (its first word that is not an option), or ''."""
+    for tok in argv:
+        if not tok.startswith("-"):
+            return tok if tok in COMMANDS else ""
+        if tok == "--":
+            break
+    return ""
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    parser, modules = build_parser()
-    args = parser.parse_args(negative_values_joined(sys.argv[1:] if argv is None else argv))
+    argv = negative_values_joined(sys.argv[1:] if argv is None else argv)
+    parser, modules = build_parser(_command(argv))
+    args = parser.parse_args(argv)
     if not args.command:
         parser.print_help(sys.stderr)
         return 2
@@ -87,7 +126,24 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.write("vmach: interrupted\n")
         return 130
     except BrokenPipeError:
-        return 0
+        # the reader went away (``vmach run P | head``): stop writing, quietly, with the
+        # command's own exit code when it was known before its output (never a clean 0 for a
+        # program with errors)
+        pipe_closed()
+        return int(getattr(args, "exit_code", 0))
+
+
+def pipe_closed() -> None:
+    """Point stdout at /dev/null after its reader left, so that nothing more (nor the
+    interpreter's flush at exit) raises BrokenPipeError."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):
+        pass
 
 
 if __name__ == "__main__":

@@ -8,9 +8,13 @@ Command-line options win; otherwise a ``vmach.toml`` beside the program says wha
     profile = "P3G:50"
     profile_z = "-35:-5"
     accuracy = "fine"                    # stock simulation preset (vmach.tol.ACCURACY)
+    default_tool = "flat:d=10"           # stands in for tools the library lacks (vmach.defaults)
 
     [zero_offsets.G54]                   # settable zero offsets, mm / degrees
     Z = 0.0
+
+    [parameters]                         # the model's set-up parameters, e.g. where the part
+    rotation_centre = [0.0, 0.0, -30.0]  # sits on a table-table machine (--set wins)
 
     [programs.POLY100]                   # overrides for one program (by file stem)
     stock = "cylinder:d=120,l=150"
@@ -19,15 +23,16 @@ Command-line options win; otherwise a ``vmach.toml`` beside the program says wha
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from vmach.bundled import MODELS_DIR  # the bundled models (checkout or wheel)
 from vmach.canon import DEFAULT_CONTROL, ControlSpec
-from vmach.errors import InputError
+from vmach.errors import InputError, ModelError
 
 SETUP_NAME = "vmach.toml"
-MODELS_DIR = Path(__file__).resolve().parents[1] / "models"
 
 
 @dataclass(frozen=True)
@@ -40,8 +45,11 @@ class Setup:
     profile: str | None = None
     profile_z: str | None = None
     accuracy: str | None = None
+    default_tool: str | None = None
     zero_offsets: dict[str, dict[str, float]] = field(default_factory=dict)
+    parameters: dict[str, float | tuple[float, ...]] = field(default_factory=dict)  # the model's set-up
     source: Path | None = None  # the vmach.toml read, if any
+    places: dict[str, Any] = field(default_factory=dict)  # text setting -> its SourceRef in the file
 
 
 def resolve_model(spec: str | Path, base: Path | None = None) -> Path:
@@ -60,7 +68,37 @@ def resolve_model(spec: str | Path, base: Path | None = None) -> Path:
 
 
 #: the setup file's text settings (each a string when given)
-TEXT_KEYS = ("machine", "tools", "stock", "profile", "profile_z", "accuracy")
+TEXT_KEYS = ("machine", "tools", "stock", "profile", "profile_z", "accuracy", "default_tool")
+#: every key a setup file's top level (and, but for ``programs``, a program's table) may hold
+SETUP_KEYS = (*TEXT_KEYS, "zero_offsets", "parameters", "programs")
+
+
+def unknown_keys(data: dict[str, Any], places) -> list:
+    """An ``unknown_key`` error (a Finding at its line) for every key of ``data`` that a setup
+    file cannot hold, top level and ``[programs.NAME]`` tables, with the closest known key as
+    a hint ("did you mean"), as a model file's loader does."""
+    import difflib
+
+    from vmach.findings import Finding
+
+    out = []
+
+    def check(table: dict, known: tuple[str, ...], key: tuple) -> None:
+        for k in table:
+            if k in known:
+                continue
+            close = difflib.get_close_matches(str(k), known, n=1, cutoff=0.6)
+            hint = f"; did you mean {close[0]!r}?" if close else f" (keys: {', '.join(known)})"
+            out.append(Finding("unknown_key", "error", f"{SETUP_NAME}: {'.'.join((*key, k))} is not a "
+                               f"setting{hint}", places.find((*key, k))))
+
+    check(data, SETUP_KEYS, ())
+    programs = data.get("programs")
+    if isinstance(programs, dict):
+        for name, table in programs.items():
+            if isinstance(table, dict):
+                check(table, tuple(k for k in SETUP_KEYS if k != "programs"), ("programs", name))
+    return out
 
 
 def read_setup(program: str | Path) -> Setup:
@@ -75,6 +113,8 @@ def read_setup(program: str | Path) -> Setup:
     text = read_text(path)
     data: dict[str, Any] = parse_toml(text, str(path))
     places = KeyLines.scan(text, str(path))
+    if problems := unknown_keys(data, places):
+        raise ModelError(problems)
 
     def bad(key: tuple, what: str):
         return InputError(f"{SETUP_NAME}: {'.'.join(map(str, key))} {what}", kind="setup",
@@ -101,10 +141,20 @@ def read_setup(program: str | Path) -> Setup:
             raise bad(("zero_offsets", k), "must be a table of axis values")
         row = {}
         for a, v in vals.items():
-            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+            if not _finite(v):
                 raise bad(("zero_offsets", k, a), "must be a finite number (mm or degrees)")
             row[a] = float(v)
         zero[k.upper()] = row
+    params: dict[str, float | tuple[float, ...]] = {}
+    raw_params = data.get("parameters", {})
+    if not isinstance(raw_params, dict):
+        raise bad(("parameters",), "must be a table: [parameters] rotation_centre = [0, 0, -30]")
+    for k, v in raw_params.items():
+        vals = v if isinstance(v, list) else [v]
+        if not vals or not all(_finite(x) for x in vals):
+            raise bad(where.get("parameters", ("parameters",)) + (k,),
+                      "must be a finite number or a list of them (mm or degrees)")
+        params[k] = tuple(float(x) for x in vals) if isinstance(v, list) else float(v)
     base = path.parent
     machine = data.get("machine")
     tools = data.get("tools")
@@ -120,18 +170,39 @@ def read_setup(program: str | Path) -> Setup:
         profile=data.get("profile"),
         profile_z=data.get("profile_z"),
         accuracy=data.get("accuracy"),
+        default_tool=data.get("default_tool"),
         zero_offsets=zero,
+        parameters=params,
         source=path,
+        places={k: places.find(where[k]) for k in TEXT_KEYS if k in data},
     )
+
+
+@contextmanager
+def setting(setup: Setup, key: str, given: object = None):
+    """Run the reading of setting ``key``; when its value came from the setup file (not the
+    command line: ``given`` is None), an InputError it raises points at the key's line in the
+    file and says so."""
+    try:
+        yield
+    except InputError as exc:
+        if given is not None or key not in setup.places or exc.source is not None:
+            raise
+        raise InputError(f"{SETUP_NAME}: {key}: {exc.message}", kind=exc.kind,
+                         source=setup.places[key]) from None
+
+
+def _finite(v: Any) -> bool:
+    return not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v)
 
 
 def control_for(program: str | Path, machine: str | None) -> tuple[ControlSpec, Path | None]:
     """The ControlSpec a program runs against: ``--machine``, else the setup file, else none."""
-    from vmach.machine.control import load_control
+    from vmach.machine.loader import load_model_control
 
     setup = read_setup(program)
     path = resolve_model(machine) if machine else setup.machine
-    control = load_control(path) if path else DEFAULT_CONTROL
+    control = load_model_control(path) if path else DEFAULT_CONTROL
     return with_offsets(control, setup), path
 
 

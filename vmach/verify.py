@@ -11,19 +11,20 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 import interpreters
-from vmach import __version__
+from vmach import __version__, coverage
 from vmach.canon import RunOptions, RunResult
 from vmach.checks.process import spindle_off_cuts, unknown_tools, zero_feeds
 from vmach.errors import InputError
 from vmach.findings import Finding, sort_key
 from vmach.motion import MoveTable, build
-from vmach.setup import Setup, read_setup, resolve_model, with_offsets
+from vmach.setup import Setup, read_setup, resolve_model, setting, with_offsets
 from vmach.tol import ACCURACY
 
 
@@ -49,6 +50,8 @@ class VerifyOptions:
     design: str | None = None  # the part's design (.stl/.3mf/.ply/.step), compared with the cut part
     design_tolerance: str | None = None  # "+0.05/-0.02" mm (vmach.checks.design.parse_band)
     design_offset: str | None = None  # "X,Y,Z" mm: the design moved in the workpiece frame
+    default_tool: str | None = None  # stand-in for tools the library lacks (vmach.tooling.default)
+    progress: Any = None  # vmach.progress.Progress told of each phase (None: nothing shown)
 
 
 @dataclass
@@ -73,6 +76,8 @@ class Report:
     profile_spec: str | None = None
     accuracy: str = "standard"  # the stock simulation's preset (vmach.tol.ACCURACY)
     design: Any = None  # vmach.checks.design_findings.DesignOutcome with --design
+    skipped: dict[str, str] = field(default_factory=dict)  # stage -> why it did not run (coverage)
+    stopped_at: Any = None  # SourceRef of the error that stopped an unfinished run (coverage)
 
     @property
     def errors(self) -> int:
@@ -92,6 +97,7 @@ class Report:
         st = self.part.stats
         return {
             "accuracy": self.accuracy,
+            "partial": self.stopped_at is not None,
             "rim_arcs": bool(self.part.arcs),
             "moves": int(self.sim.moves),
             "poses": int(self.sim.samples),
@@ -113,6 +119,7 @@ class Report:
     def to_json(self) -> dict[str, Any]:
         findings = sorted(self.findings, key=sort_key)
         res = self.result
+        cycle = None if self.stopped_at is not None else self.cycle    # never for an unfinished run
         return {
             "vmach": __version__,
             "program": {
@@ -120,7 +127,11 @@ class Report:
                 "completed": None if res is None else res.completed,
                 "blocks": None if res is None else res.blocks,
                 "moves": None if self.table is None else len(self.table),
+                "stopped_at": None if self.stopped_at is None
+                else {"file": self.stopped_at.path, "line": self.stopped_at.line},
             },
+            "partial": self.stopped_at is not None,
+            "skipped": dict(self.skipped),
             "machine": None
             if self.machine_path is None
             else {
@@ -139,8 +150,8 @@ class Report:
             "simulation": self.simulation(),
             "profile": self.profile,
             "design": None if self.design is None else self.design.to_json(),
-            "cycle_time_s": None if self.cycle is None else self.cycle["total_s"],
-            "cycle_time": self.cycle,
+            "cycle_time_s": None if cycle is None else cycle["total_s"],
+            "cycle_time": cycle,
             "images": dict(self.images),
             "timings_s": {k: round(v, 4) for k, v in self.timings.items()},
         }
@@ -156,18 +167,24 @@ def _finding_json(f: Finding) -> dict[str, Any]:
 
 
 class _Clock:
-    def __init__(self, report: Report):
+    def __init__(self, report: Report, progress=None):
         self.report = report
+        self.progress = progress
 
     def __call__(self, name: str):
-        report = self.report
+        report, progress = self.report, self.progress
 
         class _T:
             def __enter__(self):
+                if progress is not None:
+                    progress.start(name)
                 self.t = time.perf_counter()
 
             def __exit__(self, *exc):
-                report.timings[name] = report.timings.get(name, 0.0) + time.perf_counter() - self.t
+                dt = time.perf_counter() - self.t
+                report.timings[name] = report.timings.get(name, 0.0) + dt
+                if progress is not None and exc[0] is None:
+                    progress.done(name, dt)
                 return False
 
         return _T()
@@ -196,7 +213,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         raise InputError(f"{program}: no such file", kind="unreadable")
     setup = read_setup(path)
     report = Report(str(program), setup)
-    clock = _Clock(report)
+    clock = _Clock(report, options.progress)
     t0 = time.perf_counter()
 
     with clock("setup"):
@@ -217,13 +234,22 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             from vmach.tooling.library import load_tools
 
             library = load_tools(tools_path)
+        default_spec = options.default_tool or setup.default_tool
+        if default_spec:
+            from vmach.tooling.default import WithDefault, parse_default_tool
+
+            with setting(setup, "default_tool", options.default_tool):
+                library = WithDefault(library, parse_default_tool(
+                    default_spec, "--default-tool" if options.default_tool else "default_tool"))
         report.library = library
         report.stock_spec = options.stock or setup.stock
+        # the stock is read now: a malformed spec fails before anything runs, with or without tools
+        with setting(setup, "stock", options.stock):
+            blank = _blank(report.stock_spec, report.findings) if report.stock_spec else None
         report.accuracy = options.accuracy or setup.accuracy or "standard"
         if report.accuracy not in ACCURACY:
-            where = f"{setup.source}: " if options.accuracy is None else "--"
-            raise InputError(f"{where}accuracy {report.accuracy!r}: one of {', '.join(ACCURACY)}",
-                             kind="usage")
+            with setting(setup, "accuracy", options.accuracy):
+                raise InputError(f"{report.accuracy!r} is not one of {', '.join(ACCURACY)}", kind="usage")
         if options.export:
             from vmach.stock.stock import export_target
 
@@ -231,8 +257,9 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
                 export_target(target)
         report.profile_spec = options.profile or setup.profile
         # the profile, its stations and fit are read now: a typo fails before the simulation
-        profile_plan = (_profile_plan(report.profile_spec, options.profile_z or setup.profile_z, options)
-                        if report.profile_spec else None)
+        with setting(setup, "profile", options.profile), setting(setup, "profile_z", options.profile_z):
+            profile_plan = (_profile_plan(report.profile_spec, options.profile_z or setup.profile_z, options)
+                            if report.profile_spec else None)
         if options.design:                # the design is read now too (vmach.checks.design_findings)
             from vmach.checks.design_findings import plan_design
 
@@ -240,20 +267,21 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
 
     with clock("interpret"):
         dialect = interpreters.dialect_for(path, options.dialect, control.dialect)
+        static = dialect.check(str(program), control)     # verify reports all that check does
         result = dialect.run(str(program), control, RunOptions(
-            max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None))
+            max_blocks=options.max_blocks, tool_radius=library.radius if library is not None else None,
+            tool_data=library.data if library is not None else None))
         report.result = result
-        report.findings.extend(result.findings)
+        report.findings.extend(coverage.merged(static, result.findings))
+        report.stopped_at = coverage.stop_place(result)
 
     with clock("move_table"):
         table = build(result.commands, control)
         report.table = table
 
     with clock("checks"):
-        if library is not None:
-            report.findings.extend(unknown_tools(result.commands, library))
+        report.findings.extend(unknown_tools(result.commands, library))
         report.findings.extend(zero_feeds(table))
-        report.findings.extend(spindle_off_cuts(table, model.tool_spindle))
         report.findings.extend(_limit_findings(model, table))
 
     with clock("cycle_time"):
@@ -272,7 +300,16 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             report.stock_spec, notes = declared
             report.findings.extend(Finding("workpiece", "info", n) for n in notes)
     spec = report.stock_spec
+    if spec and blank is None:
+        blank = _blank(spec, report.findings)
     simulated = bool(spec) and library is not None     # the stock is cut
+    with clock("checks"):
+        from vmach.checks.envelope import in_envelope
+
+        report.findings.extend(coverage.toolless_feeds(table, simulated))
+        report.findings.extend(spindle_off_cuts(table, model.tool_spindle, None if blank is None else partial(
+            in_envelope, table, model, library, _bounds(blank))))
+    coverage.say_skipped(report, spec, library, profile_plan is not None)
     if (options.export or options.design) and not simulated:
         which = "export" if options.export else "design"
         raise InputError(f"--{which} needs a simulated stock: give {'--tools' if spec else '--stock'} "
@@ -290,9 +327,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
                 preload()
 
             acc = ACCURACY[report.accuracy]
-            notes: list = []
-            stock = Stock.from_spec(spec, notes=notes, progress=not options.quiet, **acc.stock)
-            report.findings.extend(Finding("blank_hull", "info", m, data=d) for m, d in notes)
+            stock = Stock(blank, progress=not options.quiet, **acc.stock)
             sim = simulate(table, model, library, stock, checks=True, clearance=options.clearance)
         # the collision checks do not read the stock: they run while its worker process, if
         # it took the batches, subtracts the last of them
@@ -307,10 +342,13 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             for target in options.export:
                 which = "removed" if Path(target).stem.endswith("removed") else "part"
                 stock.export(target, which=which)
-        if profile_plan is not None:
+        if profile_plan is not None and report.stopped_at is None:
             with clock("profile"):
                 report.findings.extend(_profile(report, stock, report.profile_spec, profile_plan, options))
-        if options.design:
+        if options.design and report.stopped_at is not None:
+            coverage.skip(report, "design", "the program did not run to its end: its part is not the "
+                          "finished one", report.stopped_at)
+        elif options.design:
             with clock("design"):
                 from vmach.checks.design_findings import check_design
 
@@ -329,6 +367,23 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
 
     report.timings["total"] = time.perf_counter() - t0
     return report
+
+
+def _bounds(solid) -> np.ndarray:
+    from vmach.stock import engine
+
+    return engine.bounds(solid)
+
+
+def _blank(spec: str, findings: list[Finding]):
+    """The stock solid of ``spec`` (InputError for a malformed one); a convex mesh blank cut as
+    its hull is a ``blank_hull`` info in ``findings``."""
+    from vmach.stock.spec import parse_stock
+
+    notes: list = []
+    solid = parse_stock(spec, notes=notes)
+    findings.extend(Finding("blank_hull", "info", m, data=d) for m, d in notes)
+    return solid
 
 
 def _limit_findings(model, table: MoveTable) -> list[Finding]:

@@ -20,7 +20,7 @@ from interpreters.rs274ngc.checker import check_program
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.interp import Interpreter
 from interpreters.rs274ngc.output import Output
-from interpreters.rs274ngc.state import default_tool_table, read_tool_table
+from interpreters.rs274ngc.state import OpenToolTable, default_tool_table, read_tool_table
 from vmach.canon import DEFAULT_CONTROL, ControlSpec, RunOptions, RunResult
 from vmach.findings import Finding, error
 from vmach.source import SourceRef
@@ -46,7 +46,7 @@ def _interpret(path, control, options, extra, trace: bool, commands: bool):
     try:
         # rs274 prints its notes on the tool table before anything else
         tools = read_tool_table(table, out.lines if trace else None) if table else (
-            default_tool_table())
+            default_tool_table() if options.tool_radius is None else OpenToolTable())
     except NgcError as exc:
         f = error(exc.kind, exc.message, SourceRef(str(table), 1))
         return out, RunResult([], [f], False, 0)

@@ -42,7 +42,10 @@ class OffsetMixin:
         out.simple("START_CHANGE")
         out.spindle("stop")
         s.spindle = "stop"
-        out.change_tool(s.selected_pocket, self.tools.entry(s.selected_pocket).number)
+        # T0 M6 unloads the spindle: the canonical command says tool 0 (the trace keeps
+        # LinuxCNC's CHANGE_TOOL(0))
+        number = self.tools.entry(s.selected_pocket).number if s.selected_pocket else 0
+        out.change_tool(s.selected_pocket, number)
         self.tools.load(s.selected_pocket)
         s.current_pocket = s.selected_pocket
         s.toolchange_flag = True

@@ -68,6 +68,22 @@ class ToolTable:
         return self.tools[index - 1]
 
 
+class OpenToolTable(ToolTable):
+    """The table when vmach's own tool library decides which tools exist (``vmach verify``
+    and ``run --tools``): every tool number is found, in a pocket of its own number, so that
+    a T the library lacks is vmach's ``unknown_tool`` finding rather than a stop."""
+
+    def __init__(self) -> None:
+        super().__init__([])
+
+    def index(self, number: int) -> int | None:
+        found = super().index(number)
+        if found is None:
+            self.tools.append(Tool(number, number))
+            found = len(self.tools)
+        return found
+
+
 #: ``rs274`` without ``-t`` knows three tools (LinuxCNC 2.9 standalone default table).
 DEFAULT_TOOLS = (
     Tool(1, 1, [0.0, 0.0, 0.511, 0, 0, 0, 0, 0, 0], 0.125),

@@ -12,6 +12,7 @@ import os
 from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik import definitions
 from interpreters.sinumerik.interpreter import Interpreter, find_subprogram, linked_outside, read_program
 from vmach.canon import DEFAULT_CONTROL, ControlSpec, RunOptions, RunResult
 from vmach.findings import Finding, error, sort_key
@@ -26,7 +27,7 @@ def check(path: str | Path, control: ControlSpec = DEFAULT_CONTROL) -> list[Find
     names, jumps, structure, block numbers, unreachable blocks, PROC position."""
     p = Path(path)
     loaded = read_program(p, str(path), control)
-    findings = list(loaded.findings)
+    findings = list(loaded.findings) + list(definitions.load(p, str(path), control).findings)
     findings += _names(loaded.program, p.resolve().parent, control)
     return sorted(findings, key=sort_key)
 

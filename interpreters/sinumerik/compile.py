@@ -29,6 +29,8 @@ def compile_block(it: Interpreter, program: b.Program, blk: b.Block) -> Callable
     kind = blk.kind
     env = it.env
     src = SourceRef(program.path, blk.line, 1, blk.text)
+    if env.sys is not None:
+        env.sys.src = src   # the NCK names this block in its findings and recorded writes
 
     def unbalanced(what: str) -> Callable[[], int]:
         return _alarm("unbalanced_block", what, src)

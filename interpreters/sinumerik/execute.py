@@ -23,7 +23,7 @@ from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS, drill, pattern
-from interpreters.sinumerik.frames import Frames, diagonal, matmul, modulo_target, rot_axis, rpy
+from interpreters.sinumerik.frames import IDENTITY, Frames, diagonal, matmul, modulo_target, rot_axis, rpy
 from vmach import canon
 from vmach.canon import AxisSpec, ControlSpec
 from vmach.errors import ProgramError
@@ -143,6 +143,11 @@ class Machine:
         #: where motion commands go: ``out``, or the place of a block held for a chamfer
         self.sink: list = out
 
+    def settable_frame(self, code: str) -> tuple[dict[str, float], tuple]:
+        """Translations and linear part G500/G54... select: the model's zero offsets (the NCK's
+        settable frames replace this when a run has one, see ``nck.Nck.settable_frame``)."""
+        return ({} if code == "G500" else dict(self.control.zero_offsets.get(code, {})), IDENTITY)
+
     @property
     def plane_axes(self) -> tuple[str, str, str]:
         """(first, second, normal) axis names of the working plane."""
@@ -169,7 +174,8 @@ class Machine:
                 "offset_code",
                 "path_mode",
             )
-        } | {"frames": (dict(self.frames.settable), dict(self.frames.trans), self.frames.rot)}
+        } | {"frames": (dict(self.frames.settable), dict(self.frames.trans), self.frames.rot,
+                        self.frames.slin)}
 
     def restore(self, state: dict, src: SourceRef) -> None:
         frames = state.pop("frames")
@@ -178,7 +184,7 @@ class Machine:
         for k, v in state.items():
             setattr(self, k, v)
         self.plane_ab = PLANES[self.plane][:2]
-        self.frames.settable, self.frames.trans, self.frames.rot = frames
+        self.frames.settable, self.frames.trans, self.frames.rot, self.frames.slin = frames
         self.frames.refresh()
         self.emit_frame(src)
         self.out.append(canon.PlaneSelect(src, plane=PLANES[self.plane]))
@@ -235,8 +241,7 @@ class Machine:
                     )
             elif grp == 8:
                 self.offset_code = name
-                offsets = {} if name == "G500" else dict(self.control.zero_offsets.get(name, {}))
-                self.frames.set_settable(offsets)
+                self.frames.set_settable(*self.settable_frame(name))
                 self.emit_frame(src)
             elif grp == 9:
                 suppress = True
@@ -468,7 +473,7 @@ class Machine:
                 self.frames.rot_add(m)
             else:
                 self.frames.linear_abs(m)
-            if self.cutcom.engaged and not _unit_scale(self.frames.rot):
+            if self.cutcom.engaged and not _unit_scale(self.frames.lin):
                 raise ProgramError("cutcom", f"{fc.name} while tool radius compensation is active: "
                                    "a scaled frame would scale the tool radius", src.at(fc.col))
         elif fc.name in ("TRANS", "ATRANS"):

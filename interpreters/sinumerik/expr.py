@@ -22,6 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from interpreters.sinumerik import sysvars
 from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token
 from vmach.tol import tol
 
@@ -80,6 +81,7 @@ BINARY_PRIORITY: dict[str, int] = {
     "/": 10,
     "DIV": 10,
     "MOD": 10,
+    ":": 9,     # frame chaining (CTRANS(...):CROT(...)); frames only
 }
 PREFIX_PRIORITY = 11
 
@@ -115,6 +117,8 @@ FUNCTIONS: dict[str, tuple[int, int]] = {
     "MAXVAL": (2, 2),
     "BOUND": (3, 3),
 }
+#: frame functions (their arguments are axis names and values; see sysframes.py)
+FRAME_FUNCTIONS = frozenset({"CTRANS", "CROT", "CSCALE", "CMIRROR", "CFINE", "CRPL"})
 
 
 def depth(node: Node) -> int:
@@ -252,10 +256,59 @@ class ExprParser:
                 return Node("var", t.col, name, tuple(idx))
             return Node("var", t.col, name)
         if name.startswith("$"):
-            raise ParseError("unsupported", f"system variable {name} is not simulated", t.col)
+            return self.system(t)
+        if nxt.kind == OP and nxt.text == "(" and name in FRAME_FUNCTIONS:
+            return self.frame_function(t)
         if nxt.kind == OP and nxt.text == "(":
             raise ParseError("unknown_word", f"unknown function {name}", t.col)
         raise ParseError("undefined_variable", f"{name} is not defined (DEF) before use", t.col)
+
+
+    def system(self, t: Token) -> Node:
+        """A system variable (``$P_EP[X]``, ``$P_UIFR[1, X, TR]``): Node("sys", name, indices).
+        An index that is a bare name (an axis, ``AX1``, a frame component) is that name as a
+        string; a name vmach has no such variable for is ``unsupported``."""
+        var = sysvars.lookup(t.text)
+        if var is None:
+            raise ParseError("unsupported", f"system variable {t.text} is not simulated", t.col)
+        idx: list[Node] = []
+        if self.tok.kind == OP and self.tok.text == "[":
+            self.pos += 1
+            while True:
+                it = self.tok
+                after = self.toks[self.pos + 1] if self.pos + 1 < len(self.toks) else it
+                if (it.kind == IDENT and after.kind == OP and after.text in ("]", ",")
+                        and not self.is_variable(it.text) and it.text not in CONSTANTS
+                        and not (it.text[0] == "R" and it.text[1:].isdigit())):
+                    self.pos += 1
+                    idx.append(Node("str", it.col, it.text))
+                else:
+                    idx.append(self.parse())
+                if self.tok.kind == OP and self.tok.text == ",":
+                    self.pos += 1
+                    continue
+                break
+            self.expect_op("]")
+        if var.shape(len(idx)) is None:
+            raise ParseError("syntax", f"{var.name} takes {var.describe_shapes()}", t.col)
+        return Node("sys", t.col, var.name, tuple(idx))
+
+    def frame_function(self, t: Token) -> Node:
+        """CTRANS(X, 10, Y, 5), CROT(Z, 45), CMIRROR(X) ...: axis names become strings."""
+        self.pos += 1
+        args: list[Node] = []
+        while not (self.tok.kind == OP and self.tok.text == ")"):
+            it = self.tok
+            if it.kind == IDENT and not self.is_variable(it.text) and it.text not in CONSTANTS:
+                self.pos += 1
+                args.append(Node("str", it.col, it.text))
+            else:
+                args.append(self.parse())
+            if not (self.tok.kind == OP and self.tok.text == ","):
+                break
+            self.pos += 1
+        self.expect_op(")")
+        return Node("frame", t.col, t.text, tuple(args))
 
 
 # ------------------------------------------------------------------------------------------
@@ -374,7 +427,12 @@ BINARY: dict[str, Callable[[Any, Any], Any]] = {
     "B_OR": lambda a, b: _int(a, "B_OR") | _int(b, "B_OR"),
     "B_XOR": lambda a, b: _int(a, "B_XOR") ^ _int(b, "B_XOR"),
     "<<": _concat,
+    ":": lambda a, b: _no_frames(),
 }
+
+
+def _no_frames():
+    raise EvalError("unsupported", "frame expressions need the control's state")
 
 
 def _sqrt(x):
@@ -476,13 +534,17 @@ class Env:
 
     r : list of float, length 1000 — R0..R999 (global).
     vars : dict name -> value or list — local variables of the running program level.
+    globals : dict name -> value or list — global user data (GUD) of the definition files.
+    sys : the NCK state (``nck.Nck``) system variables read and write, or None.
     """
 
-    __slots__ = ("r", "vars")
+    __slots__ = ("r", "vars", "globals", "sys")
 
     def __init__(self) -> None:
         self.r: list[Any] = [0.0] * 1000
         self.vars: dict[str, Any] = {}
+        self.globals: dict[str, Any] = {}
+        self.sys: Any = None
 
 
 def r_index(i: Any) -> int:
@@ -520,12 +582,15 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
             return lambda: r[i]
         f = compile_expr(node.value, env)
         return lambda: r[r_index(f())]
+    if op in ("sys", "frame") or (op == ":" and env.sys is not None):
+        return _compile_system(node, env)
     if op == "var":
         name = node.value
+        scope = scope_of(name, env)
         if not node.args:
 
             def get():
-                v = env.vars[name]
+                v = scope.vars[name]
                 if v.__class__ is list:
                     raise EvalError("type_error", f"{name} is an array; give an index")
                 return v
@@ -534,7 +599,7 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
         fs = [compile_expr(a, env) for a in node.args]
 
         def get_elem():
-            lst, i = element(env.vars[name], [f() for f in fs], name)
+            lst, i = element(scope.vars[name], [f() for f in fs], name)
             return lst[i]
 
         return get_elem
@@ -590,3 +655,33 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
     if op == "/":
         return lambda: _check_number(_div(fa(), fb()))
     return lambda: impl2(fa(), fb())
+
+
+def _compile_system(node: Node, env: Env) -> Callable[[], Any]:
+    """A system variable read, a frame function or a frame chain, through the NCK state."""
+    nck = env.sys
+    if nck is None:
+        raise EvalError("unsupported", f"{node.value}: system variables need the control's state")
+    if node.op == ":":
+        fa, fb = compile_expr(node.args[0], env), compile_expr(node.args[1], env)
+        return lambda: nck.chain(fa(), fb())
+    fs = [compile_expr(a, env) for a in node.args]
+    if node.op == "frame":
+        return nck.frame_function(node.value, fs)
+    return nck.reader(node.value, fs, node.col)
+
+
+
+class GlobalScope:
+    """Where a global user variable (GUD) lives: ``vars`` is ``Env.globals`` (a compiled read
+    or write of a level's own variable looks in ``Env.vars`` instead, which changes per level)."""
+
+    __slots__ = ("vars",)
+
+    def __init__(self, variables: dict[str, Any]) -> None:
+        self.vars = variables
+
+
+def scope_of(name: str, env: Env) -> Env | GlobalScope:
+    """The object whose ``vars`` hold variable ``name``: a GUD's scope, else ``env``."""
+    return GlobalScope(env.globals) if name in env.globals else env

@@ -5,6 +5,8 @@ Machine value of a geometry point p given in the current program coordinates::
 
     machine = settable + t + R · p          (programmable frame = Trans(t) · Rot(R))
 
+(a settable frame that rotates or mirrors, ``$P_UIFR``, chains before it: see :class:`Frames`).
+
 TRANS, ROT, SCALE and MIRROR *replace* the whole programmable frame (as the control does);
 ATRANS adds a translation in the current, possibly rotated, system (t += R·a); AROT adds a
 rotation (R = R·Ra), ASCALE a scale (R = R·diag(s)), AMIRROR a mirror (R = R·diag(±1)). R is
@@ -64,17 +66,23 @@ def rpy(rx: float, ry: float, rz: float) -> Matrix:
 
 
 class Frames:
-    """Settable offset plus programmable frame, per axis.
+    """Settable frame plus programmable frame, per axis.
 
     geometry : the three geometry axis names; others : every other axis name.
+    settable, slin : the settable frame's translation per axis and linear part (a settable
+    frame that rotates or mirrors, ``$P_UIFR[n]=CROT(...)``; identity for a plain offset).
+    trans, rot : the programmable frame's. The map used is their chain:
+    ``machine = settable + slin·(trans + rot·p)``; ``lin`` = slin·rot, ``off`` the translation.
     """
 
     def __init__(self, geometry: tuple[str, str, str]):
         self.geometry = geometry
         self.settable: dict[str, float] = {}
+        self.slin: Matrix = IDENTITY
         self.trans: dict[str, float] = {}
         self.rot: Matrix = IDENTITY
-        self.back: Matrix = IDENTITY     # inverse of rot
+        self.lin: Matrix = IDENTITY      # slin · rot
+        self.back: Matrix = IDENTITY     # inverse of lin
         self.rotated = False
         self.off: dict[str, float] = {}
 
@@ -84,11 +92,19 @@ class Frames:
         self.off = {
             a: self.settable.get(a, 0.0) + self.trans.get(a, 0.0) for a in {*self.settable, *self.trans}
         }
-        self.rotated = self.rot != IDENTITY
-        self.back = inverse(self.rot) if self.rotated else IDENTITY
+        self.lin = self.rot
+        if self.slin != IDENTITY:
+            g = self.geometry
+            turned = apply(self.slin, tuple(self.trans.get(n, 0.0) for n in g))  # type: ignore[arg-type]
+            for i, n in enumerate(g):
+                self.off[n] = self.settable.get(n, 0.0) + turned[i]
+            self.lin = matmul(self.slin, self.rot)
+        self.rotated = self.lin != IDENTITY
+        self.back = inverse(self.lin) if self.rotated else IDENTITY
 
-    def set_settable(self, offsets: dict[str, float]) -> None:
+    def set_settable(self, offsets: dict[str, float], linear: Matrix = IDENTITY) -> None:
         self.settable = dict(offsets)
+        self.slin = linear
         self.refresh()
 
     def offset(self, axis: str) -> float:
@@ -127,7 +143,7 @@ class Frames:
 
     def plane_map(self, ia: int, ib: int) -> tuple[float, float, float, float]:
         """The frame's 2×2 block in the plane of geometry axes ia, ib: (a, b, c, d) row-major."""
-        r = self.rot
+        r = self.lin
         return r[ia][ia], r[ia][ib], r[ib][ia], r[ib][ib]
 
     def mirrors(self, ia: int, ib: int) -> bool:
@@ -150,7 +166,7 @@ class Frames:
         return {a: self.offset(a) for a in axes}
 
     def rotation_flat(self) -> tuple[float, ...]:
-        return tuple(v for row in self.rot for v in row)
+        return tuple(v for row in self.lin for v in row)
 
     # -- conversions ---------------------------------------------------------------------
     def to_program(self, machine: tuple[float, float, float]) -> tuple[float, float, float]:
@@ -164,7 +180,7 @@ class Frames:
     def to_machine(self, p: tuple[float, float, float]) -> tuple[float, float, float]:
         """Program geometry coordinates -> machine values."""
         g = self.geometry
-        q = apply(self.rot, p) if self.rotated else p
+        q = apply(self.lin, p) if self.rotated else p
         return tuple(q[i] + self.offset(g[i]) for i in range(3))  # type: ignore[return-value]
 
 

@@ -15,11 +15,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import tracyl
+from interpreters.sinumerik import definitions, tracyl
 from interpreters.sinumerik.compile import CALL, SECTION, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
-from interpreters.sinumerik.expr import Env, EvalError, compile_expr, element, num, r_index
+from interpreters.sinumerik.expr import Env, EvalError, Node, compile_expr, element, num, r_index, scope_of
+from interpreters.sinumerik.nck import Nck
 from interpreters.sinumerik.parser import parse_program
 from interpreters.sinumerik.structure import analyse, find_target
 from vmach import canon
@@ -51,10 +52,12 @@ class Level:
     call_src: SourceRef | None = None
     start: int = 0                  # a repeated program section (REPEAT): blocks start..stop-1
     stop: int | None = None
+    passed: tuple = ()              # which PROC parameters the call gave ($P_SUBPAR)
 
 
 def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
-    program = parse_program(decode_text(read_bytes(path, display)), display, control)
+    gud = definitions.load(path, display, control)
+    program = parse_program(decode_text(read_bytes(path, display)), display, control, gud.variables)
     findings = list(program.findings) + analyse(program)
     return Loaded(program, findings)
 
@@ -102,6 +105,12 @@ class Interpreter:
         self.findings: list[Finding] = []
         self.machine = Machine(control, self.out)
         self.machine.tool_radius_of = options.tool_radius
+        self.nck = Nck(control, self.machine, options, self.findings, lambda: len(self.stack) - 1,
+                       self.passed)
+        self.env.sys = self.nck
+        self.machine.settable_frame = self.nck.settable_frame
+        if options.tool_radius is not None:
+            self.machine.tool_radius_of = self.nck.tool_radius
         self.loaded: dict[str, Loaded] = {}
         self.stack: list[Level] = []
         self.pending: tuple | None = None
@@ -123,6 +132,7 @@ class Interpreter:
     def run(self) -> RunResult:
         display = str(self.path)
         try:
+            self.define_globals()
             main = self.load(self.path, display)
             self.push(main, SourceRef(display, 1), [])
             self.loop()
@@ -132,6 +142,24 @@ class Interpreter:
             completed = False
         commands = tracyl.apply(flatten(self.out)) if self.machine.placeholders else self.out
         return RunResult(commands, self.machine.notes + self.findings, completed, self.blocks)
+
+    def define_globals(self) -> None:
+        """The global user data of the program's directory, with their initial values."""
+        gud = definitions.load(self.path, str(self.path), self.control)
+        self.findings.extend(gud.findings)
+        env = self.env
+        for name, d in gud.variables.items():
+            env.globals[name] = _initial(d)
+        for name, d in gud.variables.items():
+            src = gud.sources[name]
+            items = [(b.Target(name=name), d.init)] if d.init is not None else []
+            items += [(b.Target(name=name, index=(Node("num", d.col, k),)), node)
+                      for k, node in enumerate(d.init_list)]
+            for target, node in items:
+                try:
+                    self.setter(target)(compile_expr(node, env)())
+                except EvalError as exc:
+                    raise ProgramError(exc.kind, exc.message, src) from None
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:
@@ -149,6 +177,7 @@ class Interpreter:
                     f"{proc.name} takes {len(proc.params)} argument(s), got {len(args)}",
                     src,
                 )
+            level.passed = tuple(a[0] is not None for a in args)
             for i, p in enumerate(proc.params):
                 value, target = args[i] if i < len(args) else (None, None)
                 variables[p.name] = _convert(p.type, value if value is not None else _default(p.type), p.name)
@@ -161,7 +190,7 @@ class Interpreter:
                 "call_arguments", f"{program.name} has no PROC header and takes no arguments", src
             )
         for name, d in program.variables.items():
-            if isinstance(d, b.VarDef) and name not in variables:
+            if isinstance(d, b.VarDef) and name not in variables and name not in self.env.globals:
                 variables[name] = _initial(d)
         self.stack.append(level)
         self.env.vars = variables
@@ -259,6 +288,11 @@ class Interpreter:
         loaded = self.load(path, display)
         self.push(loaded, src, args, repeat)
 
+    def passed(self, n: int) -> bool:
+        """$P_SUBPAR[n]: the call gave parameter n (1-based) of the running PROC."""
+        passed = self.stack[-1].passed if self.stack else ()
+        return 1 <= n <= len(passed) and passed[n - 1]
+
     # -- assignments -------------------------------------------------------------------------
     def assign(self, target: b.Target, value) -> None:
         if target.name is None:
@@ -286,10 +320,14 @@ class Interpreter:
 
             return set_ri
         name = target.name
+        if name.startswith("$"):
+            return env.sys.writer(name, [compile_expr(x, env) for x in target.index], target.index[0].col
+                                  if target.index else 1)
+        scope = scope_of(name, env)
         if not target.index:
 
             def set_var(v):
-                d = env.vars
+                d = scope.vars
                 old = d[name]
                 if v.__class__ is old.__class__ and v.__class__ is not list:
                     d[name] = v
@@ -302,7 +340,7 @@ class Interpreter:
         fs = [compile_expr(x, env) for x in target.index]
 
         def set_elem(v):
-            lst, i = element(env.vars[name], [f() for f in fs], name)
+            lst, i = element(scope.vars[name], [f() for f in fs], name)
             lst[i] = _like(lst[i], v, name)
 
         return set_elem

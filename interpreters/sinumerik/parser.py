@@ -11,6 +11,7 @@ import math
 import re
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik import sysvars
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
@@ -267,6 +268,16 @@ class BlockParser:
 
     def target(self, t: Token) -> b.Target:
         name = t.text
+        if name.startswith("$"):  # a system variable: nck.py writes it
+            p = ExprParser(self.toks, self.pos, self.variables.__contains__)
+            try:
+                node = p.system(t)
+            except ParseError as exc:
+                raise ProgramError(exc.kind, exc.message, self.src.at(exc.col)) from None
+            self.pos = p.pos
+            if not sysvars.lookup(name).writable:
+                self.fail("read_only", f"{name} is read-only for a part program", t.col)
+            return b.Target(name=name, index=node.args)
         if name == "R" and self.is_op("["):
             self.pos += 1
             idx = self.expr()
@@ -416,7 +427,8 @@ class BlockParser:
                 self.expect_end("the jump")
                 break
             self.pos += 1
-            if self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R")):
+            if self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R"
+                                                         or name.startswith("$"))):
                 items.append(self.assignment(t))
             elif self.is_op("("):
                 items.append(self.call_with_args(t))
@@ -439,7 +451,8 @@ class BlockParser:
 
     def assignment(self, t: Token) -> b.Item:
         name = t.text
-        if name == "R" or (name[0] == "R" and name[1:].isdigit()) or name in self.variables:
+        if (name == "R" or (name[0] == "R" and name[1:].isdigit()) or name in self.variables
+                or name.startswith("$")):
             target = self.target(t)
             self.expect_op("=")
             return b.Assign(t.col, target, self.expr())
@@ -659,11 +672,12 @@ def _machine_code(name: str) -> Code:
     return Code(name, -1, "machine", False, "codes")
 
 
-def parse_program(text: str, path: str, control: ControlSpec) -> b.Program:
-    """Parse a whole program; never raises for bad text (findings collect the problems)."""
+def parse_program(text: str, path: str, control: ControlSpec, known: dict | None = None) -> b.Program:
+    """Parse a whole program; never raises for bad text (findings collect the problems).
+    ``known``: variables defined before the program (global user data, ``definitions.py``)."""
     lines = text.splitlines()
     grammar = Grammar(control)
-    variables: dict = {}
+    variables: dict = dict(known or {})
     blocks: list[b.Block] = []
     findings: list[Finding] = []
     proc: b.ProcHeader | None = None

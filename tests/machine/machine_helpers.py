@@ -9,7 +9,7 @@ import numpy as np
 from vmach.machine import load_model
 
 FIVE_AXIS = ("s5d", "h5d", "hybrid5")
-ALL_MODELS = ("turnmill",) + FIVE_AXIS
+ALL_MODELS = ("turnmill",) + FIVE_AXIS + ("mill3", "mill5ac", "lathe")
 
 
 @cache

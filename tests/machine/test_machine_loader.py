@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,7 @@ from machine.machine_helpers import ALL_MODELS, model
 from vmach.errors import InputError, ModelError
 from vmach.machine import load_control, load_model
 from vmach.machine.formula import FormulaError, formula_axes, parse_formula
+from vmach.machine.loader import load_model_control
 from vmach.machine.tomlpos import KeyLines
 
 MODELS = Path(__file__).resolve().parents[2] / "models"
@@ -19,7 +21,10 @@ MODELS = Path(__file__).resolve().parents[2] / "models"
 @pytest.mark.parametrize("name", ALL_MODELS)
 def test_every_shipped_model_loads_and_its_control_matches_load_control(name):
     m = model(name)
-    assert m.control == load_control(MODELS / f"{name}.toml")
+    # load_control reads the control part alone; the machine data need the kinematic part
+    assert replace(m.control, machine_data={}) == load_control(MODELS / f"{name}.toml")
+    assert m.control == load_model_control(MODELS / f"{name}.toml")
+    assert m.control.machine_data["$MN_SCALING_SYSTEM_IS_METRIC"] == 1
     assert m.axes == tuple(a.name for a in m.control.axes)
     assert np.all(np.isnan(m.limits) | (m.limits[:, :1] <= m.limits[:, 1:]))
 

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vmach.report import render
+from vmach.report import render, scene
 from vmach.report.pictures import box_mesh, cylinder_mesh, transformed
 
 BASELINE = Path(__file__).with_name("baseline")
@@ -68,16 +68,28 @@ def test_toolpath(gl, tmp_path):
     seg = np.stack([pts[:-1], pts[1:]], axis=1)
     kinds = (np.arange(len(seg)) % 50 >= 5).astype(int)
     v, f = cylinder_mesh(30.0, -15.0, 0.0)
-    check(tmp_path, "toolpath.png", lambda p: render.toolpath_png(p, seg, kinds, (v, f), title="helix"))
+    far = np.array([[[25.0, 0, 0], [400.0, 0, 300.0]]])     # a move far outside, drawn all the same
+    seg, kinds = np.concatenate([seg, far]), np.r_[kinds, 0]
+    markers = [(pts[100], "L12", "#d62728"), (pts[300], "L40", "#ff7f0e")]
+    box = np.array([[-30.0, -30, -15], [30, 30, 0]])
+    check(tmp_path, "toolpath.png", lambda p: render.toolpath_png(p, seg, kinds, (v, f), title="helix",
+                                                                  markers=markers, focus=box))
 
 
 def test_part_deviation(gl, tmp_path):
     v, f = cylinder_mesh(25.0, -40.0, 0.0, segments=96)
-    dev = np.where(v[:, 2] < -5, 0.01 * np.sin(3 * np.arctan2(v[:, 1], v[:, 0])), np.nan)
+    dev = np.where(v[:, 2] < -5, -0.0085 + 0.01 * np.sin(3 * np.arctan2(v[:, 1], v[:, 0])), np.nan)
+    lo, hi = -0.0125, -0.0045          # a g6 band of a 50 mm shaft, mm
+    span = scene.band_span(lo, hi, dev)
+    colours, rng = scene.colour_bar(lo, hi, span)
+    ticks = [t * 1000 for t in scene.round_ticks(lo, hi, rng)]
+    assert -12.5 in ticks and -4.5 in ticks
     check(
         tmp_path,
         "part_deviation.png",
-        lambda p: render.part_deviation_png(p, v, f, dev, (-0.0125, 0.0125), title="deviation"),
+        lambda p: render.part_deviation_png(p, v, f, dev * 1000, (rng[0] * 1000, rng[1] * 1000),
+                                            title="deviation", colours=colours, ticks=ticks, unit="µm",
+                                            nan_colour=scene.NOT_MEASURED.tolist()),
     )
 
 
@@ -92,7 +104,9 @@ def test_scene(gl, tmp_path):
         tmp_path,
         "scene.png",
         lambda p: render.scene_png(
-            p, meshes, (np.array([45.0, 0, -77]), 40.0), title="close-up", marker=np.array([45.0, 0, -77])
+            p, meshes, (np.array([45.0, 0, -77]), 40.0), title="close-up", marker=np.array([45.0, 0, -77]),
+            legend=[("jaw (struck)", "tomato"), ("cutter", "gold")],
+            lines=[(np.array([[[20.0, 0, -60], [40.0, 0, -75]]]), "red")],
         ),
     )
 

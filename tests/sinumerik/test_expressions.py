@@ -145,7 +145,8 @@ def test_runtime_errors_have_stable_kinds(text, kind):
         ("(1 + 2", "syntax"),
         ("R1000", "index_range"),
         ("NOSUCHFN(1)", "unknown_word"),
-        ("$AA_IM[X]", "unsupported"),
+        ("$AA_NO_SUCH_VARIABLE[X]", "unsupported"),
+        ("$P_GG", "syntax"),                    # $P_GG takes a group number
     ],
 )
 def test_parse_errors_have_stable_kinds(text, kind):

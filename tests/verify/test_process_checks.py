@@ -88,10 +88,17 @@ def test_x_beyond_travel_is_an_axis_limit_at_its_line(tmp_path):
     assert [(x.source.path.endswith("P3G_SHAFT.SPF"), x.line, x.data.get("axis")) for x in f] == [
         (True, line, "X")
     ]
-    assert report.errors == 1
+    # without a tool library each T is an unknown tool too (issue 31: never assumed)
+    assert {x.kind for x in report.findings if x.severity == "error"} == {"axis_limit", "unknown_tool"}
 
 
-def test_clean_fixture_has_no_error(tmp_path):
-    main, _, _ = _variant(tmp_path, "N390 G0", "N390 G0")
+def test_fixture_without_a_tool_library_says_what_it_did_not_check(tmp_path):
+    main, sub, _ = _variant(tmp_path, "N390 G0", "N390 G0")
     report = verify(main, VerifyOptions(images=False))
-    assert report.errors == 0, [x.render() for x in report.findings]
+    t_lines = [i + 1 for i, ln in enumerate(sub.read_text().splitlines()) if " T=" in ln]
+    assert sorted((x.kind, x.line) for x in report.findings if x.severity == "error") == [
+        ("unknown_tool", n) for n in t_lines
+    ]
+    assert set(report.skipped) == {"stock", "fixture_collisions"}
+    assert sorted(x.data["stage"] for x in report.findings if x.kind == "stage_skipped") == [
+        "fixture_collisions", "stock"]

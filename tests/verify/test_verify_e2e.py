@@ -146,7 +146,7 @@ def test_accuracy_fine_simulates_to_its_finer_bounds_and_says_so(tmp_path, capsy
     setup.write_text(setup.read_text().replace('"fine"', '"ultra"'))
     assert main(["verify", str(prog), "--out", str(out)]) != 0
     err = capsys.readouterr().err
-    assert "error[usage]" in err and "accuracy 'ultra': one of standard, fine" in err
+    assert f"{setup}:1:1: error[usage]" in err      # at the setting's line in the file
     assert "Traceback" not in err
 
 

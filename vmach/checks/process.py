@@ -28,28 +28,41 @@ def runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 
 def unknown_tools(commands: Sequence[canon.Command], library) -> list[Finding]:
-    """``unknown_tool`` at every T the library (``lookup(name) -> Tool | None``) lacks."""
+    """``unknown_tool`` at every T the library (``lookup(name) -> Tool | None``) lacks — every
+    T when there is no library (None): a tool nothing describes is never assumed. T0 (number
+    0) deselects the tool and is never one. A library with a stand-in (``stood_in``,
+    :class:`vmach.tooling.default.WithDefault`) makes each tool it replaces a ``default_tool``
+    warning instead."""
     out = []
     for c in commands:
-        if isinstance(c, canon.ToolChange) and library.lookup(c.tool) is None:
-            out.append(
-                Finding(
-                    "unknown_tool",
-                    "error",
-                    f'tool "{c.tool}" is not in the tool library {library.path}',
-                    c.source,
-                    None,
-                    {"tool": c.tool},
-                )
-            )
+        if not isinstance(c, canon.ToolChange) or c.number == 0:
+            continue
+        data = {"tool": c.tool}
+        if library is None:
+            out.append(Finding("unknown_tool", "error", f'tool "{c.tool}": no tool library describes it '
+                               "(give --tools, or --default-tool to stand in for it)", c.source, None, data))
+        elif getattr(library, "stood_in", None) is not None and library.stood_in(c.tool):
+            d = library.default
+            out.append(Finding("default_tool", "warning", f'tool "{c.tool}" is not in a tool library: '
+                               f"simulated as the stand-in {d.kind} Ø{d.diameter:g} mm, "
+                               f"{d.cutting_length:g} mm cutting length, without shank or holder "
+                               "(not checked for collisions)",
+                               c.source, None, data))
+        elif library.lookup(c.tool) is None:
+            out.append(Finding("unknown_tool", "error", f'tool "{c.tool}" is not in the tool library '
+                               f"{library.path}", c.source, None, data))
     return out
 
 
-def spindle_off_cuts(table: MoveTable, tool_spindle: int | None) -> list[Finding]:
+def spindle_off_cuts(table: MoveTable, tool_spindle: int | None, reach=None) -> list[Finding]:
     """``spindle_off_cut`` for feed moves while the spindle driving the tool stands still.
 
     tool_spindle : the spindle that turns the cutter (the turn-mill's live-tool spindle 2);
         None means the master spindle of each row.
+    reach : None when there is no stock to tell whether a move cuts (each such move is then a
+        warning), else a function ``rows (k,) int -> (k,) bool``: whether those moves reach
+        into the stock's envelope (:func:`vmach.checks.envelope.in_envelope`); only they are
+        errors, a feed in the air is none.
     """
     n = len(table)
     if n == 0:
@@ -62,19 +75,24 @@ def spindle_off_cuts(table: MoveTable, tool_spindle: int | None) -> list[Finding
     else:
         turning = np.zeros(n, bool)
     others = (table.direction != 0).any(axis=1) & ~turning
+    off = cutting & ~turning
+    if reach is not None and off.any():
+        rows = np.flatnonzero(off)
+        off[rows] = reach(rows)
     out = []
-    for a, b in runs(cutting & ~turning):
+    for a, b in runs(off):
         wrong = bool(others[a])
         which = f"spindle {tool_spindle}" if tool_spindle is not None else "the master spindle"
         msg = (
             f"feed move with {which} stopped"
             + (" while another spindle turns" if wrong else "")
             + (f" ({b - a + 1} moves, to line {int(table.line[b])})" if b > a else "")
+            + (" (no stock to tell whether it cuts)" if reach is None else "")
         )
         out.append(
             Finding(
                 "spindle_off_cut",
-                "error",
+                "warning" if reach is None else "error",
                 msg,
                 table.source(a),
                 a,

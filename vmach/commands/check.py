@@ -30,11 +30,12 @@ def run(args: argparse.Namespace) -> int:
     findings = dialect.check(args.program, control)
     errors = sum(f.severity == "error" for f in findings)
     warnings = sum(f.severity == "warning" for f in findings)
+    args.exit_code = 1 if errors else 0           # known before the output (a closed pipe keeps it)
     if args.format == "json":
         json.dump([f.to_json() for f in findings], sys.stdout, indent=2, ensure_ascii=False)
         sys.stdout.write("\n")
     else:
         for f in findings:
             print(f.render())
-        print(f"{args.program}: {errors} error(s), {warnings} warning(s)", file=sys.stderr)
+        print(f"{args.program}: {errors} error(s), {warnings} warning(s)")
     return 1 if errors else 0

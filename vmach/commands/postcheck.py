@@ -28,6 +28,7 @@ from vmach.machine.postcheck import (
     moves_from_commands,
     postcheck,
 )
+from vmach.setup import read_setup
 
 HELP = "check post-processed G-code against the CAM cutter-location (APT CL) data"
 
@@ -37,17 +38,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cl", required=True, metavar="FILE", help="APT CL data (GOTO/…)")
     parser.add_argument(
         "--machine",
-        required=True,
         dest="model",
         metavar="MODEL",
-        help="machine model (path or name in models/)",
+        help="machine model (path or name in models/); default: the vmach.toml beside the program",
     )
     parser.add_argument(
         "--set",
         action="append",
         default=[],
         metavar="NAME=VALUE",
-        help="set a model parameter, e.g. rotation_centre=0,0,-30",
+        help="set a model parameter, e.g. rotation_centre=0,0,-30 (wins over the [parameters] "
+        "of the vmach.toml beside the program)",
     )
     parser.add_argument("--dialect", help="override the dialect chosen by the file extension")
     parser.add_argument(
@@ -66,6 +67,34 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--format", choices=("text", "json"), default="text")
 
 
+def _set_up_model(args: argparse.Namespace, program: Path):
+    """The model with its set-up parameters — ``--set`` over the ``[parameters]`` of the
+    vmach.toml beside the program over the model's own — and a line saying which came from
+    where (a post is checked against the fixture it was written for, never silently against
+    the model's default set-up)."""
+    setup = read_setup(program)
+    if args.model is None:
+        if setup.machine is None:
+            raise InputError(f"{program}: which machine? give --machine (or a vmach.toml beside the "
+                             "program)", kind="usage")
+        args.model = str(setup.machine)
+    model = open_model(args)
+    given = {item.partition("=")[0].strip() for item in args.set}
+    from_file = {k: v for k, v in setup.parameters.items() if k not in given}
+    if from_file:
+        model = model.with_parameters(**from_file)
+    params = model.spec.parameters
+    said = []
+    for name in sorted(params):
+        where = "--set" if name in given else (str(setup.source) if name in from_file else "the model")
+        said.append(f"{name} = {_fmt(params[name])} ({where})")
+    return model, "; ".join(said) or "no parameters"
+
+
+def _fmt(v) -> str:
+    return ",".join(f"{x:g}" for x in v) if isinstance(v, tuple) else f"{v:g}"
+
+
 def run(args: argparse.Namespace) -> int:
     tol_p = numbers(args.tol_position, "--tol-position", 1)[0]
     tol_a = numbers(args.tol_angle, "--tol-angle", 1)[0]
@@ -74,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
     program = Path(args.program)
     if not program.is_file():
         raise InputError(f"{args.program}: no such file", kind="unreadable")
-    model = open_model(args)
+    model, setup_note = _set_up_model(args, program)
     cl = read_cl(args.cl)
     dialect = interpreters.dialect_for(program, args.dialect, model.control.dialect)
     result = dialect.run(str(program), model.control, RunOptions())
@@ -97,6 +126,7 @@ def run(args: argparse.Namespace) -> int:
             "program": str(program),
             "cl": str(args.cl),
             "machine": model.name,
+            "setup": setup_note,
             "tolerance": {"position_mm": tol_p, "angle_deg": tol_a},
             "summary": summary,
             "poses": [check.pose_json(i) for i in range(len(cl))],
@@ -107,6 +137,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         w = sys.stdout.write
         w(f"postcheck {program} against {args.cl} on {model.name}\n")
+        w(f"  set-up: {setup_note}\n")
         w(
             f"  {summary['poses']} CL poses, {summary['moves']} moves, {summary['paired']} paired, "
             f"{summary['unpaired_moves']} moves without a pose\n"
@@ -129,6 +160,6 @@ def run(args: argparse.Namespace) -> int:
                         f"  {p['angle_deg']:10.6f}\n"
                     )
         for f in findings:
-            sys.stderr.write(f.render() + "\n")
+            w(f.render() + "\n")
     bad = any(f.severity == "error" for f in findings) or not result.completed
     return 1 if bad else 0

@@ -51,7 +51,9 @@ def run(args: argparse.Namespace) -> int:
     if args.png is not None:
         from vmach.report.render import profile_png
 
-        profile_png(args.png, [(prof.curve(1440), "black")], title=prof.name)
+        curves, labels = _drawing(prof, data)
+        standard = "DIN 32711" if prof.kind == "P3G" else "DIN 32712"
+        profile_png(args.png, curves, title=f"{standard} {prof.name}", labels=labels, scale=True)
         data["png"] = args.png
     if args.design_stl is not None:
         data["design"] = _write_design(prof, args)
@@ -110,3 +112,27 @@ def _write_design(prof, args) -> dict:
     return {"path": str(path), "triangles": int(len(f)), "volume_mm3": round(float(mesh.volume), 3),
             "length": design.length, "chamfer": design.chamfer, "shoulder": design.shoulder,
             "phase_deg": design.phase_deg}
+
+
+#: colours of the drawing: the profile, its circumscribed and inscribed circles
+D2_COLOUR, D3_COLOUR = "steelblue", "darkorange"
+
+
+def _drawing(prof, data: dict) -> tuple[list, list]:
+    """The curves and labels of ``profile --png``: the nominal profile (black) with the
+    circles of its sizes — P3G: d2 circumscribed, d3 inscribed; P4C: d1 outer circle, d2
+    across the flats — each labelled with its diameter (mm)."""
+    import numpy as np
+
+    if prof.kind == "P4C":
+        circles = [("d1", data["d1"], D2_COLOUR), ("d2", data["d2"], D3_COLOUR)]
+    else:
+        circles = [("d2", data["d2"], D2_COLOUR), ("d3", data["d3"], D3_COLOUR)]
+    t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    curves = [(prof.curve(1440), "black")]
+    labels = []
+    for n, (name, d, colour) in enumerate(circles):
+        curves.append((np.column_stack([d / 2 * np.cos(t), d / 2 * np.sin(t)]), colour))
+        a = np.radians(-60 - 35 * n)                         # labels apart, off the profile's lobes
+        labels.append((np.array([d / 2 * np.cos(a), d / 2 * np.sin(a)]), f"{name} = {d:g}", colour))
+    return curves, labels

@@ -46,7 +46,9 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--max-blocks must be at least 1", kind="usage")
     control, model_path = control_for(path, args.machine)
     dialect = interpreters.dialect_for(path, args.dialect, control.dialect)
-    options = RunOptions(max_blocks=args.max_blocks, tool_radius=_tool_radius(path, args.tools))
+    library = _library(path, args.tools)
+    options = RunOptions(max_blocks=args.max_blocks, tool_radius=library.radius if library else None,
+                         tool_data=library.data if library else None)
     if args.format in ("text", "json"):
         result = dialect.run(args.program, control, options)
         if args.format == "json":
@@ -71,14 +73,21 @@ def run(args: argparse.Namespace) -> int:
             with atomic_writer(args.output) as fh:
                 for line in lines:
                     fh.write(line + "\n")
-    else:
+    errors = any(f.severity == "error" for f in result.findings)
+    args.exit_code = code = 1 if errors or not result.completed else 0
+    if not args.output:
         out = sys.stdout
-        for line in lines:
-            out.write(line + "\n")
+        try:
+            for line in lines:
+                out.write(line + "\n")
+            out.flush()
+        except BrokenPipeError:       # the reader left (| head): the findings still go to stderr
+            from vmach.cli import pipe_closed
+
+            pipe_closed()
     for f in result.findings:
         sys.stderr.write(f.render() + "\n")
-    errors = any(f.severity == "error" for f in result.findings)
-    return 1 if errors or not result.completed else 0
+    return code
 
 
 def _json_line(cmd, drives: dict | None) -> str:
@@ -89,14 +98,14 @@ def _json_line(cmd, drives: dict | None) -> str:
     return json.dumps(row, ensure_ascii=False)
 
 
-def _tool_radius(program: Path, tools: str | None):
-    """The tool library's radius lookup for tool radius compensation: ``--tools``, else the
-    setup file's library, else None."""
+def _library(program: Path, tools: str | None):
+    """The tool library (tool radius compensation, the control's tool data): ``--tools``, else
+    the setup file's library, else None."""
     from vmach.setup import read_setup
     from vmach.tooling.library import load_tools
 
     path = Path(tools) if tools else read_setup(program).tools
-    return load_tools(path).radius if path is not None else None
+    return load_tools(path) if path is not None else None
 
 
 def _drive_values(model_path: Path | None, result: RunResult) -> dict[int, dict]:

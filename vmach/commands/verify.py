@@ -5,13 +5,20 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from pathlib import Path
 
+from vmach import coverage
 from vmach.errors import InputError
 from vmach.motion.timing import format_seconds
 from vmach.output import atomic_writer, make_dir, writable_dir
+from vmach.progress import Progress
 from vmach.tol import ACCURACY, tol
 from vmach.verify import VerifyOptions, verify
+
+#: the phases of a run, in order (for the progress bar's length)
+PHASES = ("setup", "interpret", "move_table", "checks", "cycle_time", "stock", "collisions", "profile",
+          "pictures", "report")
 
 HELP = "verify a program on a machine: limits, collisions, stock, profile, cycle time, report"
 
@@ -21,6 +28,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--machine", help="machine model (path or name in models/)")
     p.add_argument("--dialect", help="override the dialect chosen by the extension or the machine")
     p.add_argument("--tools", help="tool library (TOML)")
+    p.add_argument(
+        "--default-tool",
+        metavar="KIND:d=D[,l=L]",
+        help="stand in for every tool the library lacks (or all, without one) with this cutter, e.g. "
+        "flat:d=10 (flat, ball, drill); each is a default_tool warning, never assumed silently",
+    )
     p.add_argument("--stock", help="stock: cylinder:d=60,l=100 | box:x=..,y=..,z=.. | mesh:part.stl")
     p.add_argument("--profile", help="profile to check, e.g. P3G:50 (DIN 32711) or P4C:35x30")
     p.add_argument("--profile-z", help="Z range of the profile check, e.g. -35:-5")
@@ -57,7 +70,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="band about the design's surface, mm (default +0.05/-0.02)")
     g.add_argument("--design-offset", metavar="X,Y,Z", help="move the design by this, mm")
     p.add_argument("--max-blocks", type=int, default=tol.max_blocks)
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress (else: bars on a terminal, one line a phase with its time on stderr)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -66,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.clearance >= 0:
         raise InputError("--clearance must be a distance >= 0 mm", kind="usage")
     out = writable_dir(args.out if args.out else Path("out") / Path(args.program).stem)
+    progress = Progress.for_stream("verify", args.quiet, PHASES)
     options = VerifyOptions(
         machine=args.machine,
         tools=args.tools,
@@ -85,19 +100,54 @@ def run(args: argparse.Namespace) -> int:
         design=args.design,
         design_tolerance=args.design_tolerance,
         design_offset=args.design_offset,
+        default_tool=args.default_tool,
+        progress=progress,
     )
-    report = verify(args.program, options)
+    try:
+        report = verify(args.program, options)
+    except BaseException:
+        progress.close(finished=False)
+        raise
     data = report.to_json()
+    args.exit_code = 1 if report.errors else 0    # known before the output (a closed pipe keeps it)
     make_dir(out)
+    stale_pictures_removed(out, data["images"])
     with atomic_writer(out / "report.json") as fh:
         json.dump(data, fh, indent=2, ensure_ascii=False)
         fh.write("\n")
+    from vmach.report.html import write_report_html
+
+    progress.start("report")
+    t = time.perf_counter()
+    write_report_html(report, data, out)       # report.html beside it: the same report, shown
+    progress.done("report", time.perf_counter() - t)
+    progress.close()
     if args.format == "json":
         json.dump(data, sys.stdout, indent=2, ensure_ascii=False)
         sys.stdout.write("\n")
     else:
         print(summary(report, out))
     return 1 if report.errors else 0
+
+
+def stale_pictures_removed(out: Path, images: dict) -> None:
+    """Remove the pictures an earlier report in ``out`` listed that this one does not (a run with
+    --no-images, or fewer findings, must not leave an older picture beside the new report).
+    Only files that report named are touched, and only inside ``out``."""
+    old = out / "report.json"
+    try:
+        listed = json.loads(old.read_text(encoding="utf-8")).get("images") or {}
+    except (OSError, ValueError, AttributeError):
+        return
+    keep = {str(v) for v in images.values()}
+    for name in listed.values() if isinstance(listed, dict) else ():
+        p = out / str(name)
+        if str(name) in keep or p.resolve().parent != out.resolve() or not p.is_file():
+            continue
+        try:
+            p.unlink()
+        except OSError:
+            pass
 
 
 def summary(report, out: Path) -> str:
@@ -107,9 +157,12 @@ def summary(report, out: Path) -> str:
     d = report.to_json()
     s = d["summary"]
     lines.append("")
+    partial = " (partial)" if d["partial"] else ""
     lines.append(
-        f"{report.program}: {d['program']['moves']} moves, {s['errors']} error(s), {s['warnings']} warning(s)"
+        f"{report.program}: {d['program']['moves']} moves{partial}, {s['errors']} error(s), "
+        f"{s['warnings']} warning(s)"
     )
+    lines.extend(coverage.summary_lines(report))
     if d["cycle_time_s"] is not None:
         lines.append(f"cycle time {format_seconds(d['cycle_time_s'])}")
     if d["simulation"]:
@@ -117,7 +170,8 @@ def summary(report, out: Path) -> str:
         b = m["error_bounds_mm"]
         sides = max(b["fan_overcut"], b["tool_polygon"], b["side_cusps"])
         lines.append(
-            f"stock ({m['accuracy']} accuracy): {m['cutters']} cutters ({m['fan_cutters']} fans); "
+            f"stock ({m['accuracy']} accuracy{', partial' if partial else ''}): "
+            f"{m['cutters']} cutters ({m['fan_cutters']} fans); "
             "simulation error within "
             f"{b['face_scallop']:.4f} mm on flat faces, {sides:g} mm on sides "
             "(report.json: simulation.error_bounds_mm)"
@@ -133,5 +187,5 @@ def summary(report, out: Path) -> str:
         lo, hi = g["tolerance_mm"]
         lines.append(f"design {g['path']}: deviation -{g['max_gouge_mm']:.4f}…+{g['max_excess_mm']:.4f} mm, "
                      f"band {lo:+g}/{hi:+g}: {g['gouges']} gouge(s), {g['excess']} excess region(s)")
-    lines.append(f"report: {out / 'report.json'}")
+    lines.append(f"report: {out / 'report.json'} ({out / 'report.html'})")
     return "\n".join(lines)

@@ -27,6 +27,8 @@ Schema (all lengths mm, angles degrees, rates per minute; see ``docs/kinematics.
     [positions.tool_change]  X = 325.0, Y = 0.0    # named machine positions (G53 values)
     [timing]  tool_change_s, spindle_start_s, ..., [timing.cycles] C_AXIS_ON = 2.0  (seconds;
               see vmach.machine.spec.TimingSpec)
+    [machine_data]  MC_TRAFO_TYPE_1 = 24, MA_POS_LIMIT_PLUS = { X = 500.0 } ... (the control's
+              machine, setting, swivel and PLC data; see vmach.machine.machdata)
 
 A value that refers to a parameter is a string: ``"name"`` or ``"-name"``; nothing is evaluated.
 """
@@ -36,13 +38,16 @@ from __future__ import annotations
 import difflib
 import math
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from vmach.canon import ControlSpec
 from vmach.findings import Finding, error
-from vmach.machine.control import collect_control
+from vmach.machine.control import collect_control, control_spec, parse_toml, read_text
 from vmach.machine.dynamics import read_timing
 from vmach.machine.formula import FormulaError, parse_formula
+from vmach.machine.machdata import derive, read_table
 from vmach.machine.spec import (
     Geometry,
     Joint,
@@ -70,7 +75,7 @@ _JOINT = frozenset({"name", "variable", "type", "parent", "child", "axis"}) | _M
 KEYS: dict[str, frozenset[str]] = {
     "": frozenset({"name", "description", "formula", "control", "axes", "parameters", "kinematics",
                    "joints", "dimensions", "work", "tool", "geometry", "parallel", "positions",
-                   "timing", "zero_offsets"}),
+                   "timing", "zero_offsets", "machine_data"}),
     "control": frozenset({"dialect", "geometry", "transverse", "spindles", "master_spindle",
                           "tool_spindle", "cycles", "gcodes"}),
     "axes": frozenset({"name", "type", "modulo", "g90_mode", "home"}),
@@ -329,6 +334,9 @@ def build_spec(
     positions = _positions(r, axes)
     timing = read_timing(r)
     name = raw.get("name", Path(path).stem)
+    given, md_problems = read_table(raw.get("machine_data"))
+    for key, msg in md_problems:
+        r.err("bad_value", msg, key)
     if r.problems or work is None or tool is None:
         return None, r.problems
     spec = ModelSpec(
@@ -349,7 +357,21 @@ def build_spec(
         description=str(raw.get("description", "")),
         timing=timing,
     )
+    spec = replace(spec, control=replace(control, machine_data=derive(spec, given)))
     return spec, r.problems
+
+
+def load_model_control(path: str | Path) -> ControlSpec:
+    """The ControlSpec of the model file at ``path`` with its machine data (limits, rates, swivel
+    data need the kinematic part); a model whose kinematic part does not load gives the
+    control part alone, as :func:`vmach.machine.control.load_control` reads it."""
+    text = read_text(path)
+    data = parse_toml(text, str(path))
+    lines = KeyLines.scan(text, str(path))
+    spec, _problems = build_spec(data, str(path), lines)
+    if spec is not None:
+        return spec.control
+    return control_spec(data, str(path), lines.find)
 
 
 def _joint(r: Reader, i: int, t: Mapping[str, Any], key: tuple | None = None) -> Joint | None:

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from vmach.bundled import MODELS_DIR  # the bundled models (checkout or wheel)
 from vmach.errors import InputError, ModelError
 from vmach.findings import error, sort_key
 from vmach.machine import closed_form, numeric, parallel
@@ -22,8 +23,6 @@ from vmach.machine.control import parse_toml, read_text
 from vmach.machine.loader import build_spec
 from vmach.machine.spec import ModelSpec, TimingSpec
 from vmach.machine.tomlpos import KeyLines
-
-MODELS_DIR = Path(__file__).resolve().parents[2] / "models"
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,7 @@ class MoveTable:
     kind : (n,) int8 — TRAVERSE, FEED or ARC (a chord of an arc)
     feed : (n,) float — programmed feed in the unit ``feed_mode`` gives; NaN for traverses
     feed_mode : (n,) int8 — index into FEED_MODES
-    tool : (n,) int16 — index into ``tools``; -1 before the first tool change
+    tool : (n,) int16 — index into ``tools``; -1 before the first tool change and after T0
     offset : (n,) int16 — active tool offset (D/H number; 0 = none)
     spindles : (s,) int — spindle numbers, the columns of ``speed`` and ``direction``
     speed : (n, s) float — rev/min of each spindle during the move
@@ -182,9 +182,12 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
                 add(a, b, ARC, c.feed, ci, c, j == m - 1)
             pos = end
         elif isinstance(c, canon.ToolChange):
-            if c.tool not in tools:
-                tools.append(c.tool)
-            tool = tools.index(c.tool)
+            if c.number == 0:               # T0 (Sinumerik T0/T00, RS274 T0 M6): no tool
+                tool = -1
+            else:
+                if c.tool not in tools:
+                    tools.append(c.tool)
+                tool = tools.index(c.tool)
             if c.offset is not None:
                 offset = c.offset
         elif isinstance(c, canon.ToolOffset):

@@ -143,16 +143,35 @@ def make_pictures(report, out_dir: Path) -> dict[str, str]:
         b = np.asarray(part.initial_bounds, float)
         pad = 0.5 * float(np.max(b[1] - b[0]))
         region = np.stack([b[0] - pad, b[1] + pad])
-    seg, kinds = toolpath_segments(table, model, region=region)
+    seg, kinds = toolpath_segments(table, model)          # every move, however far it goes
+    markers = _markers(report)
     if len(seg):
+        focus = region
+        if focus is not None and markers:                     # the findings' places in the frame
+            at = np.array([m[0] for m in markers])
+            focus = np.stack([np.minimum(focus[0], at.min(axis=0)), np.maximum(focus[1], at.max(axis=0))])
+        name = Path(report.program).name
         render.toolpath_png(
             out_dir / "toolpath.png",
             seg,
             kinds,
             outline,
-            title=f"{Path(report.program).name}: tool path (rapid red, feed green)",
+            title=f"{name}: tool path (rapid red, feed green), findings at their lines",
+            markers=markers,
+            focus=focus,
         )
         images["toolpath"] = "toolpath.png"
+        pts = seg.reshape(-1, 3)
+        if focus is not None and not np.all((pts >= focus[0] - 1e-6) & (pts <= focus[1] + 1e-6)):
+            render.toolpath_png(       # the moves that leave the close view, seen whole
+                out_dir / "toolpath_all.png",
+                seg,
+                kinds,
+                outline,
+                title=f"{name}: the whole tool path, every move (rapid red, feed green)",
+                markers=markers,
+            )
+            images["toolpath_all"] = "toolpath_all.png"
     rot = [a for a, r in zip(table.axes, table.rotary, strict=True) if r]
     if rot:
         rows = one_revolution(table, rot[0])
@@ -174,23 +193,19 @@ def make_pictures(report, out_dir: Path) -> dict[str, str]:
             )
             images["x_of_c"] = "x_of_c.png"
     if part is not None and report.profile is not None and report.profile_spec is not None:
-        from vmach.checks.polygon import parse_profile
+        from vmach.report.scene import NOT_MEASURED, band_span, colour_bar, part_deviation, round_ticks
 
-        v, f = outline
-        prof = parse_profile(report.profile_spec)
+        v, f, dev, (lo, hi) = part_deviation(report)
         z = [s["z"] for s in report.profile["stations"]]
-        dev = deviation_per_vertex(v, prof, report.profile["phase_deg"], min(z), max(z))
-        lo, hi = report.profile["tolerance_mm"]
-        # white is the middle of the band; the band's edges sit a third of the way to the ends of
-        # the colour bar, so red (material outside) and blue (gouge) mean "out of tolerance"
-        mid = (lo + hi) / 2
-        worst = float(np.nanmax(np.abs(dev - mid))) if np.isfinite(dev).any() else 0.0
-        span = max(1.5 * (hi - lo), worst)
+        span = band_span(lo, hi, dev)
+        colours, rng = colour_bar(lo, hi, span)
         keep = np.all(v[f][:, :, 2] > min(z) - 10.0, axis=1)  # the profiled end, not the whole bar
         render.part_deviation_png(
-            out_dir / "part_deviation.png", v, f[keep], dev, (mid - span, mid + span),
-            title=f"{report.profile_spec}: deviation from nominal [mm]; band "
-            f"{lo * 1000:+.1f}..{hi * 1000:+.1f} um, white = middle of the band",
+            out_dir / "part_deviation.png", v, f[keep], dev * 1000.0, (rng[0] * 1000, rng[1] * 1000),
+            title=f"{report.profile_spec} radial deviation: grey in the band "
+            f"{lo * 1000:+.1f}..{hi * 1000:+.1f} um, red above, blue below, white not measured",
+            colours=colours, ticks=[t * 1000 for t in round_ticks(lo, hi, rng)], unit="µm",
+            nan_colour=NOT_MEASURED.tolist(),
         )
         images["part_deviation"] = "part_deviation.png"
     if getattr(report, "design", None) is not None:
@@ -199,6 +214,21 @@ def make_pictures(report, out_dir: Path) -> dict[str, str]:
         images.update(design_picture(report.design, out_dir))
     images.update(collision_pictures(report, out_dir))
     return images
+
+
+def _markers(report, most: int = 40) -> list[tuple[np.ndarray, str, str]]:
+    """The findings' places for the tool-path picture, (at (3,) mm, label, colour): one per
+    (line, kind), errors first, at most ``most``."""
+    from vmach.report.scene import SEVERITY_COLOURS, finding_places
+
+    seen, out = set(), []
+    places = sorted(finding_places(report), key=lambda p: (p.severity != "error", p.line or 0))
+    for p in places:
+        if (p.line, p.kind) in seen or len(out) >= most:
+            continue
+        seen.add((p.line, p.kind))
+        out.append((p.at, p.label, SEVERITY_COLOURS.get(p.severity, "black")))
+    return out
 
 
 COLLISION_KINDS = ("rapid_into_stock", "holder_collision", "fixture_collision")
@@ -226,16 +256,27 @@ def collision_pictures(report, out_dir: Path, most: int = 8) -> dict[str, str]:
         q = table.columns(model.axes, model.home, table.end[row : row + 1])
         t2w = model.tool2work(q)[0]
         meshes = []
+        legend: list[tuple[str, str]] = []
+        bodies: dict[str, list] = {"tool": [], "holder": [], "other": []}   # solids of the overlap
         if tool is not None:
-            colours = {"cutter": "gold", "shank": "silver", "holder": "dimgray"}
+            colours = {"cutter": "gold", "shank": "silver", "holder": "sienna"}
             for c in tool_cylinders(tool):
                 v, fc = cylinder_mesh(c.radius, c.z0, c.z1)
                 meshes.append((transformed(v, t2w), fc, colours[c.part], 1.0))
+                legend.append((f"tool {name}: {c.part}", colours[c.part]))
+                solid = (c, t2w)
+                bodies["tool"].append(solid)
+                if c.part != "cutter":
+                    bodies["holder"].append(solid)
         snap = snaps[row].mesh() if row in snaps else None
         if snap is None and report.part is not None:
             snap = report.part.mesh("part")
         if snap is not None:
             meshes.append((snap[0], snap[1], "lightsteelblue", 0.6))
+            legend.append(("stock after the move" if row in snaps else "stock (finished part)",
+                           "lightsteelblue"))
+            if f.kind != "fixture_collision":
+                bodies["other"].append(snap)
         if f.kind == "fixture_collision":
             frames = model.link2base(q)
             w2b = np.linalg.inv(frames["work"][0])
@@ -248,11 +289,26 @@ def collision_pictures(report, out_dir: Path, most: int = 8) -> dict[str, str]:
                     else cylinder_mesh(g.radius, -g.length / 2, g.length / 2)
                 )
                 m = w2b @ frames[g.link][0] @ g.origin.matrix
-                meshes.append(
-                    (transformed(v, m), fc, "tomato" if g.name == f.data.get("obstacle") else "wheat", 0.8)
-                )
+                hit = g.name == f.data.get("obstacle")
+                meshes.append((transformed(v, m), fc, "tomato" if hit else "wheat", 0.8))
+                if hit:
+                    legend.append((f"{g.name} (struck)", "tomato"))
+                    bodies["other"].append((g, m))
+            if any(c == "wheat" for _, _, c, _ in meshes):
+                legend.append(("other fixtures", "wheat"))
+        # the overlap: holder and shank in the stock (the cutter is meant to be there), or the
+        # whole tool in the struck fixture; the move itself as a thick line
+        overlap = _overlap(bodies["tool" if f.kind == "fixture_collision" else "holder"], bodies["other"])
+        if overlap is not None:
+            meshes.append((overlap[0], overlap[1], "magenta", 1.0))
+            legend.append(("intersection", "magenta"))
+        path = _move_path(table, model, row)
+        rapid = f.kind == "rapid_into_stock"
+        legend.append(("the rapid move (tip)" if rapid else "the move (tip)",
+                       "red" if rapid else "darkgreen"))
+        legend.append(("contact point" if "at_mm" in f.data else "end of the move", "red"))
         at = np.asarray(f.data.get("at_mm", t2w[:3, 3]), float)
-        radius = 40.0 if tool is None else max(20.0, 1.5 * tool.diameter)
+        radius = 40.0 if tool is None else max(25.0, 2.5 * tool.diameter)
         fname = f"collision_{n}.png"
         render.scene_png(
             out_dir / fname,
@@ -260,6 +316,45 @@ def collision_pictures(report, out_dir: Path, most: int = 8) -> dict[str, str]:
             (at, radius),
             title=f"{f.kind} at {Path(f.source.path).name}:{f.line}",
             marker=at,
+            legend=legend,
+            lines=[(path, "red" if rapid else "darkgreen")],
         )
         out[f"collision_{n}"] = fname
     return out
+
+
+def _move_path(table: MoveTable, model, row: int, step_deg: float = 2.0) -> np.ndarray:
+    """The tool tip's path over one move in the work frame, segments (s, 2, 3) mm: a move that
+    turns a rotary axis is the curve the tip really follows (sampled every ``step_deg``)."""
+    a, b = table.start[row], table.end[row]
+    turn = float(np.max(np.abs(b - a)[table.rotary])) if table.rotary.any() else 0.0
+    t = np.linspace(0.0, 1.0, max(1, math.ceil(turn / step_deg)) + 1)
+    tips = model.fk(table.columns(model.axes, model.home, a + t[:, None] * (b - a))).tip
+    return np.stack([tips[:-1], tips[1:]], axis=1)
+
+
+def _overlap(tool: list, others: list) -> tuple[np.ndarray, np.ndarray] | None:
+    """The volume where the tool's parts (``(Cylinder, tool2work (4, 4))``) overlap the other
+    bodies — meshes (vertices, faces) mm, or a fixture's ``(Geometry, to-work (4, 4))`` — as a
+    mesh; None when they do not (or a body is not a closed solid)."""
+    if not tool or not others:
+        return None
+    from vmach.stock import engine
+    try:
+        parts = [engine.transform(engine.cylinder(c.radius, c.z0, c.z1, 48), m) for c, m in tool]
+        solids = []
+        for a, b in others:
+            if isinstance(a, np.ndarray):
+                solids.append(engine.from_arrays(a, b))
+            elif a.shape == "box":
+                h = np.asarray(a.size, float) / 2
+                solids.append(engine.transform(engine.box(-h, h), b))
+            else:
+                solids.append(engine.transform(engine.cylinder(a.radius, -a.length / 2, a.length / 2, 48), b))
+        other = engine.union(solids)
+        cut = engine.intersect(engine.union(parts), other)
+        if engine.is_empty(cut):
+            return None
+        return engine.to_mesh(cut)
+    except (engine.StockError, ValueError, RuntimeError):
+        return None

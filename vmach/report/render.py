@@ -6,6 +6,7 @@ plain numpy arrays and writes a PNG.
 
 from __future__ import annotations
 
+import math
 import threading
 from collections.abc import Sequence
 from pathlib import Path
@@ -70,27 +71,95 @@ def _plotter(size: tuple[int, int] = WINDOW):
     return pv, plotter
 
 
+def _triad(plotter) -> None:
+    """The axis triad (X red, Y green, Z blue) in the lower left corner."""
+    plotter.add_axes(line_width=3, color=FOREGROUND, viewport=(0.0, 0.0, 0.16, 0.16))
+
+
+def _scale_bar(plotter, bounds: np.ndarray, along: int = 0) -> None:
+    """A ruler of a round length (1, 2 or 5 × 10^k mm) along axis ``along`` at the lower
+    corner of ``bounds`` (2, 3) mm, labelled with its length."""
+    from vmach.report.scene import scale_length
+
+    lo, hi = np.asarray(bounds, float)
+    length = scale_length(float(np.max(hi - lo)))
+    b = lo.copy()
+    b[along] += length
+    plotter.add_ruler(lo, b, title=f"{length:g} mm", number_labels=2, label_format="%g",
+                      font_size_factor=0.5, show_labels=False)
+
+
+def _frame(plotter, bounds: np.ndarray, direction=(1.0, 1.0, 1.0)) -> None:
+    """Point the camera at the box ``bounds`` (2, 3) mm from ``direction`` (isometric by
+    default, Z up) so that the box fills the picture; whatever lies beyond is cut off
+    (VTK's ResetCamera(bounds) frames every actor instead)."""
+    lo, hi = np.asarray(bounds, float)
+    centre = (lo + hi) / 2
+    radius = max(float(np.linalg.norm(hi - lo)) / 2, 1e-3)
+    d = np.asarray(direction, float)
+    cam = plotter.camera
+    cam.focal_point = centre.tolist()
+    distance = radius / math.sin(math.radians(cam.view_angle / 2))
+    cam.position = (centre + d / np.linalg.norm(d) * distance).tolist()
+    cam.up = (0.0, 0.0, 1.0)
+    plotter.renderer.ResetCameraClippingRange()
+
+
+def _bounds(*arrays: np.ndarray) -> np.ndarray | None:
+    """(2, 3) bounds of point arrays (..., 3), or None when there is none."""
+    pts = [np.asarray(a, float).reshape(-1, 3) for a in arrays if a is not None and np.size(a)]
+    if not pts:
+        return None
+    p = np.vstack(pts)
+    p = p[np.all(np.isfinite(p), axis=1)]
+    return np.stack([p.min(axis=0), p.max(axis=0)]) if len(p) else None
+
+
+def _markers(plotter, markers: Sequence[tuple[np.ndarray, str, str]], size: float) -> None:
+    """Findings' places: (at (3,) mm, label, colour) — a dot and the label beside it."""
+    pv = _import()
+    for colour in dict.fromkeys(c for _, _, c in markers):
+        sel = [(np.asarray(a, float), t) for a, t, c in markers if c == colour]
+        pts = np.array([a for a, _ in sel])
+        plotter.add_mesh(pv.PolyData(pts), color=colour, point_size=size, render_points_as_spheres=True)
+        plotter.add_point_labels(pts, [t for _, t in sel], font_size=12, text_color=colour,
+                                 shape_color="white", shape_opacity=0.7, show_points=False,
+                                 always_visible=True)
+
+
 def profile_png(
     path: str | Path,
     curves: Sequence[tuple[np.ndarray, str]],
     title: str = "",
     size: tuple[int, int] = WINDOW,
+    labels: Sequence[tuple[np.ndarray, str, str]] = (),
+    scale: bool = False,
 ) -> Path:
     """Closed plane curves, seen along −Z, as a PNG.
 
     curves : sequence of (points (n, 2) float mm, colour name); each is drawn closed.
+    labels : (at (2,) mm, text, colour) written at points; scale: a scale bar under the curves.
     """
     out = Path(path)
     if out.suffix.lower() != ".png":
         raise InputError(f"{out}: pictures are written as .png", kind="export_format")
     pv, plotter = _plotter(size)
+    allp = []
     for pts, colour in curves:
         p = np.asarray(pts, dtype=float)
         xyz = np.column_stack([p, np.zeros(len(p))])
         xyz = np.vstack([xyz, xyz[:1]])
+        allp.append(xyz)
         plotter.add_mesh(pv.lines_from_points(xyz), color=colour, line_width=3)
     axis = np.array([[-1.0, 0, 0], [1.0, 0, 0], [0, -1.0, 0], [0, 1.0, 0]])
     plotter.add_mesh(pv.line_segments_from_points(axis), color="gray", line_width=1)
+    for at, text, colour in labels:
+        plotter.add_point_labels(np.array([[at[0], at[1], 0.0]]), [text], font_size=14, text_color=colour,
+                                 shape_opacity=0.0, show_points=False, always_visible=True)
+    if scale and allp:
+        lo, hi = _bounds(*allp)
+        pad = 0.08 * float(np.max(hi - lo))
+        _scale_bar(plotter, np.stack([lo - [0, pad, 0], hi]))
     if title:
         plotter.add_text(title, font_size=14, color=FOREGROUND, position="upper_left")
     plotter.view_xy()
@@ -129,10 +198,15 @@ def _camera(plotter, view: str) -> None:
     plotter.reset_camera()
 
 
-def _finish_part(plotter, path: Path, title: str) -> Path:
-    """Title, the part seen from above and aside, and the PNG written."""
+def _finish_part(plotter, path: Path, title: str, vertices: np.ndarray, faces: np.ndarray) -> Path:
+    """Title, axis triad, scale bar over the drawn faces' vertices (n, 3) mm, the part seen
+    from above and aside, and the PNG written."""
     if title:
         plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
+    _triad(plotter)
+    box = _bounds(np.asarray(vertices, float)[np.unique(np.asarray(faces).ravel())]) if len(faces) else None
+    if box is not None:
+        _scale_bar(plotter, box)
     plotter.camera_position = "xy"
     plotter.camera.elevation = 35
     plotter.camera.azimuth = 20
@@ -148,26 +222,38 @@ def part_deviation_png(
     clim: tuple[float, float],
     title: str = "",
     size: tuple[int, int] = WINDOW,
+    colours: np.ndarray | None = None,
+    ticks: Sequence[float] | None = None,
+    unit: str = "mm",
+    nan_colour: Sequence[float] | str = "lightgray",
 ) -> Path:
-    """A part coloured by deviation.
+    """A part coloured by deviation, with an axis triad and a scale bar.
 
-    vertices (n, 3) mm, faces (m, 3); deviation (n,) mm per vertex, NaN where not measured
-    (drawn grey); clim (lo, hi) mm of the colour bar.
+    vertices (n, 3) mm, faces (m, 3); deviation (n,) per vertex in ``unit``, NaN where not
+    measured (drawn ``nan_colour``); clim (lo, hi) of the colour bar in ``unit``; colours
+    (k, 3) float 0..1: the colour map over clim (default coolwarm); ticks: the colour bar's
+    labels (values in ``unit``; default five evenly spaced).
     """
     pv, plotter = _plotter(size)
+    name = f"radial deviation [{unit}]"
     mesh = pv.PolyData(np.asarray(vertices, float), _faces(faces))
-    mesh.point_data["deviation [mm]"] = np.asarray(deviation, float)
+    mesh.point_data[name] = np.asarray(deviation, float)
+    cmap = "coolwarm"
+    if colours is not None:
+        from matplotlib.colors import ListedColormap
+
+        cmap = ListedColormap(np.asarray(colours, float))
     plotter.add_mesh(
         mesh,
-        scalars="deviation [mm]",
-        cmap="coolwarm",
+        scalars=name,
+        cmap=cmap,
         clim=list(clim),
-        nan_color="lightgray",
+        nan_color=nan_colour,
         smooth_shading=False,
         scalar_bar_args={
-            "title": "deviation [mm]",
+            "title": name,
             "color": FOREGROUND,
-            "fmt": "%.4f",
+            "fmt": "%+g" if unit == "µm" else "%.4f",
             "n_labels": 5,
             "vertical": True,
             "position_x": 0.8,
@@ -176,7 +262,16 @@ def part_deviation_png(
             "height": 0.6,
         },
     )
-    return _finish_part(plotter, Path(path), title)
+    if ticks is not None:
+        from vtkmodules.vtkCommonCore import vtkDoubleArray
+
+        bar = plotter.scalar_bars[name]
+        values = vtkDoubleArray()
+        for t in ticks:
+            values.InsertNextValue(float(t))
+        bar.SetCustomLabels(values)
+        bar.SetUseCustomLabels(True)
+    return _finish_part(plotter, Path(path), title, vertices, faces)
 
 
 #: colours of a part against its design: gouge, within the band, excess (RGB 0..255)
@@ -225,7 +320,7 @@ def design_deviation_png(
     legend = (f"blue: gouge (below {lo:+.3f} mm)   red: excess (above {hi:+.3f} mm)   "
               "grey: within the band")
     plotter.add_text(legend, font_size=9, color=FOREGROUND, position="lower_left")
-    return _finish_part(plotter, Path(path), title)
+    return _finish_part(plotter, Path(path), title, vertices, faces)
 
 
 def toolpath_png(
@@ -235,11 +330,17 @@ def toolpath_png(
     outline: tuple | None = None,
     title: str = "",
     size: tuple[int, int] = WINDOW,
+    markers: Sequence[tuple[np.ndarray, str, str]] = (),
+    focus: np.ndarray | None = None,
 ) -> Path:
-    """A tool path in 3-D: rapids red, feeds green (as the control's simulation draws them).
+    """A tool path in 3-D: rapids red, feeds green (as the control's simulation draws them),
+    with an axis triad and a scale bar.
 
     points (n, 2, 3) mm — segment end points; kinds (n,) — 0 rapid, 1 feed.
     outline : optional (vertices, faces) of the stock drawn as a translucent body.
+    markers : findings' places, (at (3,) mm, label, colour): a dot and the label.
+    focus : (2, 3) mm, the box the camera frames (default: everything); segments beyond it are
+    drawn all the same and run out of the picture.
     """
     pv, plotter = _plotter(size)
     pts = np.asarray(points, float).reshape(-1, 3)
@@ -252,11 +353,17 @@ def toolpath_png(
     if outline is not None:
         v, f = outline
         plotter.add_mesh(pv.PolyData(np.asarray(v, float), _faces(f)), color="lightsteelblue", opacity=0.25)
+    box = focus if focus is not None else _bounds(pts, None if outline is None else outline[0],
+                                                   *(np.asarray(a, float) for a, _, _ in markers))
+    if markers:
+        _markers(plotter, markers, 14.0)
     if title:
         plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
-    if len(pts):
+    _triad(plotter)
+    if box is not None:
+        _scale_bar(plotter, box)
         plotter.view_isometric()
-        plotter.reset_camera()
+        _frame(plotter, box)
     return _save(plotter, Path(path))
 
 
@@ -285,10 +392,18 @@ def scene_png(
     title: str = "",
     marker: np.ndarray | None = None,
     size: tuple[int, int] = WINDOW,
+    legend: Sequence[tuple[str, str]] = (),
+    lines: Sequence[tuple[np.ndarray, str]] = (),
 ) -> Path:
     """A close-up of solids: meshes (vertices, faces, colour, opacity); the camera looks at
-    ``focus`` = (centre (3,), radius mm); ``marker`` (3,) draws a small sphere at a point."""
+    ``focus`` = (centre (3,), radius mm); ``marker`` (3,) draws a small sphere at a point;
+    ``lines``: (segments (n, 2, 3) mm, colour) drawn thick; ``legend``: (label, colour) of
+    what is which body. An axis triad and a scale bar."""
     pv, plotter = _plotter(size)
+    for seg, colour in lines:
+        if len(seg):
+            plotter.add_mesh(pv.line_segments_from_points(np.asarray(seg, float).reshape(-1, 3)),
+                             color=colour, line_width=4)
     for v, f, colour, opacity in meshes:
         if len(f):
             plotter.add_mesh(
@@ -304,17 +419,18 @@ def scene_png(
         )
     if title:
         plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
+    if legend:
+        # VTK writes each entry in its own colour: a dark box keeps light ones (silver) readable
+        w, h = 0.34, 0.035 * len(legend) + 0.02
+        box = plotter.add_legend([[label, colour] for label, colour in legend], bcolor=(0.22, 0.22, 0.22),
+                                 border=True, size=(w, h), loc="upper right", face="rectangle")
+        box.SetPosition(1.0 - w - 0.01, 1.0 - h - 0.05)      # pyvista's "upper right" runs off the edge
+        box.SetPosition2(w, h)
+    _triad(plotter)
+    c = np.asarray(centre, float)
+    _scale_bar(plotter, np.stack([c - 0.9 * radius, c + 0.9 * radius]))
     plotter.view_isometric()
-    plotter.reset_camera(
-        bounds=[
-            centre[0] - radius,
-            centre[0] + radius,
-            centre[1] - radius,
-            centre[1] + radius,
-            centre[2] - radius,
-            centre[2] + radius,
-        ]
-    )
+    _frame(plotter, np.stack([np.asarray(centre, float) - radius, np.asarray(centre, float) + radius]))
     return _save(plotter, Path(path))
 
 

@@ -439,6 +439,8 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
         elif clearance > 0 and cutters and not ((row == 0 or table.kind[row - 1] != TRAVERSE)
                                                 and retracts(tool, tips, ax)):
             gap = engine.min_gap(local, cut, clearance)
+            if gap < clearance and (row == 0 or table.kind[row - 1] != TRAVERSE):
+                gap = _gap_leaving(local, tool, tips, ax, clearance, gap)
             if gap < clearance:
                 res.findings.append(Finding(
                     "near_miss", "warning",
@@ -461,6 +463,27 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
                 {"part": p.name, "volume_mm3": round(vol, 4), "at_mm": np.round(centre, 3).tolist()}))
             _snapshot(stock, done, row, res)
     return local
+
+
+def _gap_leaving(local, tool, tips: np.ndarray, ax: np.ndarray, clearance: float, gap: float) -> float:
+    """The gap of a straight rapid right after a feed once it has left where the feed put the
+    tool: the cutter's cylinder swept from 2 × ``clearance`` mm along the path on. A rapid that
+    starts touching the face the feed ended on and draws straight away from it (a face mill
+    lifted off the shoulder it slid along) keeps the clearance there and is no near miss; one
+    that slides along the wall or heads for other material is. ``gap`` when the move is no
+    straight translation or too short. tips, ax : (n, 3) of the move, mm."""
+    d = tips[-1] - tips[0]
+    length = float(np.linalg.norm(d))
+    if length <= 2 * clearance or not np.allclose(ax, ax[0], atol=1e-9):
+        return gap
+    u = d / length
+    along = (tips - tips[0]) @ u
+    if not np.allclose(tips, tips[0] + np.outer(along, u), atol=1e-9):
+        return gap
+    tail = np.vstack([tips[0] + 2 * clearance * u, tips[-1]])
+    cutter = Part("cutter", 0.0, tool.cutting_length, tool.radius)
+    solids = part_solids(cutter, tail, np.vstack([ax[0], ax[0]]))
+    return engine.min_gap(local, engine.union(solids), clearance) if solids else gap
 
 
 def retracts(tool, tips: np.ndarray, ax: np.ndarray) -> bool:

@@ -89,6 +89,18 @@ class ToolLibrary:
             return None
         return off.radius if off.radius is not None else found.diameter / 2.0
 
+    def data(self, tool: str | int, d: int) -> dict[str, float | str] | None:
+        """The control's tool data of offset D``d`` (Sinumerik ``$TC_DP``/``$TC_TP``): ``name``,
+        ``type`` (a library kind), ``length`` and ``radius`` (mm), ``teeth``. None when the tool
+        or the offset is not in the library."""
+        found = self.lookup(tool)
+        radius = self.radius(tool, d)
+        if found is None or radius is None:
+            return None
+        off = found.offsets.get(int(d))
+        return {"name": found.name, "type": found.kind, "length": off.length if off is not None else 0.0,
+                "radius": radius, "teeth": found.teeth}
+
     def __getitem__(self, tool: str | int) -> Tool:
         found = self.lookup(tool)
         if found is None:

@@ -1,0 +1,137 @@
+"""Global user data (GUD): the definition files beside a program.
+
+A control keeps its global variables in definition files (``_N_SGUD_DEF`` for the machine
+maker, ``_N_MGUD_DEF``, ``_N_UGUD_DEF`` for the user, ``_N_GUD4_DEF`` .. ``_N_GUD9_DEF``)::
+
+    %_N_UGUD_DEF
+    ;$PATH=/_N_DEF_DIR
+    DEF NCK REAL RTP
+    DEF CHAN INT QUANTITY=10
+    DEF NCK APR 7 APW 2 REAL SPEED[3]=SET(1, 2, 3)
+    M30
+
+vmach reads such files from the program's own directory only (never a link leading out of it),
+named as the control names them or as a PC copy does: ``_N_UGUD_DEF``, ``UGUD.DEF``,
+``_N_UGUD_DEF.DEF`` (any case). Their variables exist in every program of the directory with
+their types, initial values and arrays; NCK and CHAN variables are both global (vmach simulates
+one channel). Access attributes (``APR``/``APW`` ...), limits (``LLI``/``ULI``) and ``PHU`` are read
+and have no effect. A definition vmach does not simulate (``DEF NCK FRAME``) is a warning
+(``unsupported_definition``), since the file is valid on the control. Macro files
+(``_N_SMAC_DEF`` ...) are not definition files of variables.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik.language import TYPES
+from interpreters.sinumerik.lexer import IDENT, split_comment, tokenize
+from interpreters.sinumerik.parser import BlockParser, Grammar
+from vmach.canon import ControlSpec
+from vmach.errors import ProgramError
+from vmach.files import decode_text, read_bytes
+from vmach.findings import Finding, error, warning
+from vmach.source import SourceRef
+
+#: a GUD file's name: _N_<MODULE>_DEF, <MODULE>.DEF or _N_<MODULE>_DEF.DEF
+GUD_FILE = re.compile(r"^(?:_N_)?(SGUD|MGUD|UGUD|GUD[4-9])(?:_DEF(?:\.DEF)?|\.DEF)$", re.IGNORECASE)
+#: the modules in the order the control activates them
+MODULES = ("SGUD", "MGUD", "UGUD", "GUD4", "GUD5", "GUD6", "GUD7", "GUD8", "GUD9")
+_END = {"M30", "M17", "M02", "M2", "RET"}
+
+
+@dataclass(frozen=True)
+class Definitions:
+    """variables : name -> VarDef (the global variables); findings : problems in the files;
+    sources : name -> SourceRef of its definition."""
+
+    variables: dict[str, b.VarDef]
+    findings: tuple[Finding, ...]
+    sources: dict[str, SourceRef]
+
+
+EMPTY = Definitions({}, (), {})
+_cache: dict[tuple, Definitions] = {}
+
+
+def files(directory: Path) -> list[Path]:
+    """The GUD files of ``directory`` in activation order (links leading out are left out)."""
+    try:
+        entries = sorted(os.listdir(directory))
+    except OSError:
+        return []
+    found = []
+    for entry in entries:
+        m = GUD_FILE.match(entry)
+        p = directory / entry
+        if m and p.is_file() and p.resolve().parent == directory.resolve():
+            found.append((MODULES.index(m.group(1).upper()), entry, p))
+    return [p for _, _, p in sorted(found)]
+
+
+def load(program: Path, display: str, control: ControlSpec) -> Definitions:
+    """The global variables defined in the GUD files beside ``program`` (cached per file
+    state); findings name the files as ``display`` (the program as the user named it) does."""
+    directory = program.resolve().parent
+    paths = files(directory)
+    if not paths:
+        return EMPTY
+    key = (str(directory), os.path.dirname(display),
+           tuple((str(p), p.stat().st_mtime_ns, p.stat().st_size) for p in paths),
+           tuple(sorted(a.name for a in control.axes)))
+    if key not in _cache:
+        _cache[key] = _read(paths, os.path.dirname(display), control)
+    return _cache[key]
+
+
+def _read(paths: list[Path], display_dir: str, control: ControlSpec) -> Definitions:
+    grammar = Grammar(control)
+    variables: dict = {}
+    sources: dict[str, SourceRef] = {}
+    findings: list[Finding] = []
+    for path in paths:
+        display = os.path.join(display_dir, path.name)
+        try:
+            text = decode_text(read_bytes(path, display))
+        except Exception as exc:  # an unreadable file is a finding, not a traceback
+            findings.append(error("unreadable", f"{display}: {exc}", SourceRef(display, 1)))
+            continue
+        for lineno, raw in enumerate(text.splitlines(), start=1):
+            code = split_comment(raw)[0].strip()
+            if not code or code.startswith("%") or code.upper() in _END:
+                continue
+            src = SourceRef(display, lineno, 1, raw)
+            try:
+                stripped = _without_attributes(code, src)
+                block = b.Block(index=0, line=lineno, text=raw)
+                BlockParser(grammar, variables, src).parse(block, stripped)
+            except ProgramError as exc:
+                f = exc.finding
+                if f.kind == "unsupported":  # valid on the control: the files are not at fault
+                    f = warning("unsupported_definition", f"{f.message}; a program that uses it stops there",
+                                f.source)
+                findings.append(f)
+                continue
+            if block.kind != "def":
+                findings.append(error("syntax", "a definition file holds DEF statements only", src))
+                continue
+            for d in block.defs:
+                sources[d.name] = src.at(d.col)
+    defs = {k: v for k, v in variables.items() if isinstance(v, b.VarDef)}
+    return Definitions(defs, tuple(findings), sources)
+
+
+def _without_attributes(code: str, src: SourceRef) -> str:
+    """``DEF NCK APR 7 REAL X`` -> ``DEF REAL X`` (same columns: the rest is blanked)."""
+    toks = tokenize(code, src)
+    if not toks or toks[0].kind != IDENT or toks[0].text != "DEF":
+        return code
+    for t in toks[1:]:
+        if t.kind == IDENT and (t.text in TYPES or t.text == "FRAME"):
+            start = t.col - 1
+            return "DEF" + " " * (start - 3) + code[start:]
+    raise ProgramError("syntax", f"DEF needs a type ({', '.join(sorted(TYPES))})", src)
