@@ -196,13 +196,25 @@ def _finite(v: Any) -> bool:
     return not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v)
 
 
-def control_for(program: str | Path, machine: str | None) -> tuple[ControlSpec, Path | None]:
-    """The ControlSpec a program runs against: ``--machine``, else the setup file, else none."""
-    from vmach.machine.loader import load_model_control
+def control_for(program: str | Path, machine: str | None, *,
+                machine_data: bool = True) -> tuple[ControlSpec, Path | None]:
+    """The ControlSpec a program runs against: ``--machine``, else the setup file, else none.
 
+    ``machine_data=False`` reads the model's control part alone (axes, dialect, declared names and
+    its ``[machine_data]`` table, without the values derived from its kinematic chain): what the
+    static checks need, without loading numpy and the kinematics (``vmach check`` starts fast)."""
     setup = read_setup(program)
     path = resolve_model(machine) if machine else setup.machine
-    control = load_model_control(path) if path else DEFAULT_CONTROL
+    if not path:
+        control = DEFAULT_CONTROL
+    elif machine_data:
+        from vmach.machine.loader import load_model_control
+
+        control = load_model_control(path)
+    else:
+        from vmach.machine.control import load_control
+
+        control = load_control(path)
     return with_offsets(control, setup), path
 
 

@@ -15,12 +15,14 @@ from vmach.findings import Finding
 
 @dataclass(frozen=True, slots=True)
 class Jump:
-    """``GOTOF``/``GOTOB``/``GOTO``/``GOTOC`` to a label, or to a block number (``number``)."""
+    """``GOTOF``/``GOTOB``/``GOTO``/``GOTOC`` to a label, or to a block number (``number``);
+    ``variable``: ``target`` names a STRING variable that holds the destination."""
 
     how: str
     target: str
     number: int | None
     col: int
+    variable: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,13 +83,15 @@ class FrameCmd:
 
 @dataclass(frozen=True, slots=True)
 class Call:
-    """Call of a subprogram or a machine cycle by name; ``repeat`` is the P count."""
+    """Call of a subprogram or a machine cycle by name; ``repeat`` is the P count; ``how``:
+    "CALL", "PCALL" or "EXTCALL" when the program names a file, "" for a call by name."""
 
     col: int
     name: str
     args: tuple[Node | None, ...] = ()
     cycle: bool = False
     repeat: Node | None = None
+    how: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -107,7 +111,24 @@ class Keyword:
     name: str
 
 
-Item = Assign | Word | GCode | FrameCmd | Call | Builtin | Keyword
+@dataclass(frozen=True, slots=True)
+class Command:
+    """A predefined command of ``commands.toml``: ``STOPRE``, ``WAITM(1,1,2)``, ``ADIS=0.5``,
+    ``FA[X]=1000``, ``POS[C]=ACP(90)``, ``SETAL(61000)``, ``CYCLE832(...)``.
+
+    kind : its kind in the table; args : its values (None for an empty place); axis : the
+    axis of ``NAME[axis]=``; mode : AC/IC/ACP/ACN/DC of a positioning value.
+    """
+
+    col: int
+    name: str
+    kind: str
+    args: tuple[Node | None, ...] = ()
+    axis: str | None = None
+    mode: str | None = None
+
+
+Item = Assign | Word | GCode | FrameCmd | Call | Builtin | Keyword | Command
 
 
 @dataclass(frozen=True, slots=True)
@@ -119,14 +140,17 @@ class VarDef:
     name: str
     dims: tuple[int, ...] = ()
     init: Node | None = None
-    init_list: tuple[Node, ...] = ()
+    init_list: tuple[Node | None, ...] = ()  # in row order; None: left as it is
 
 
 @dataclass(frozen=True, slots=True)
 class Param:
+    """A PROC parameter; ``dims``: the sizes of an array parameter (0: any), else ()."""
+
     type: str
     name: str
     by_ref: bool = False
+    dims: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -172,6 +196,9 @@ class Block:
     partner: int = -1
     partner2: int = -1  # ELSE of an IF
     error: Finding | None = None  # why a "bad" block did not parse
+    #: the control structure a "bad" block opens or closes ("if", "endif", "while" ...), so that
+    #: its partners still pair; "" for none
+    shape: str = ""
 
 
 @dataclass(slots=True)

@@ -11,6 +11,8 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik import commands
+from interpreters.sinumerik.arrays import unravel
 from interpreters.sinumerik.execute import Values
 from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num
 from vmach import canon
@@ -49,9 +51,10 @@ def compile_block(it: Interpreter, program: b.Program, blk: b.Block) -> Callable
         for d in blk.defs:
             if d.init is not None:
                 inits.append((it.setter(b.Target(name=d.name)), compile_expr(d.init, env)))
-            for k, node in enumerate(d.init_list):
-                idx = b.Target(name=d.name, index=(_const(k, d.col),))
-                inits.append((it.setter(idx), compile_expr(node, env)))
+            for k, node in enumerate(d.init_list):   # row order: the last index fastest
+                if node is not None:
+                    idx = b.Target(name=d.name, index=tuple(_const(i, d.col) for i in unravel(k, d.dims)))
+                    inits.append((it.setter(idx), compile_expr(node, env)))
 
         def define():
             for setter, f in inits:
@@ -155,6 +158,8 @@ def _endfor(it, program, blk, src):
     if blk.partner < 0:
         return _alarm("unbalanced_block", "ENDFOR without FOR", src)
     head = program.blocks[blk.partner]
+    if head.kind == "bad":              # its FOR did not parse: reaching this is that error
+        return _alarm(head.error.kind, head.error.message, src)
     setter = it.setter(head.for_target)
     getter = _getter(it, head.for_target)
     h, body, nxt = head.index, head.index + 1, blk.index + 1
@@ -216,9 +221,12 @@ def _nc(it: Interpreter, program: b.Program, blk: b.Block, src: SourceRef) -> Ca
 
         return assign_block
 
-    steps = [_step(it, item) for item in items]
+    positions: list = []    # the block's POS/POSA moves (commands.run_positions)
+    steps = [(commands.step(it, x, src, positions), x.col) if isinstance(x, b.Command) else
+             (commands.code_step(it, x.code, x.col, src), x.col)
+             if isinstance(x, b.GCode) and x.code.status == "accepted" else _step(it, x) for x in items]
     machine = it.machine
-    general = _general_nc(it, blk, src, steps, items, cond, target, nxt)
+    general = _general_nc(it, blk, src, steps, items, cond, target, nxt, positions)
     simple = all(
         (isinstance(x, b.Word) and x.kind in ("axis", "feed"))
         or (isinstance(x, b.GCode) and x.code.name in ("G0", "G1"))
@@ -260,7 +268,7 @@ def _nc(it: Interpreter, program: b.Program, blk: b.Block, src: SourceRef) -> Ca
     return straight_block
 
 
-def _general_nc(it, blk, src, steps, items, cond, target, nxt):
+def _general_nc(it, blk, src, steps, items, cond, target, nxt, positions):
     machine = it.machine
     out = it.out
 
@@ -291,18 +299,20 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt):
             except EvalError as exc:
                 raise ProgramError(exc.kind, exc.message, src.at(col)) from None
         end = machine.apply(v, src) or v.end
+        if positions:
+            commands.run_positions(it, positions, src)
         call = v.call
         if call is not None:
             if end is not None:
                 raise ProgramError("unsupported", "a subprogram call and a program end in one block", src)
-            name, args, col = call
+            name, args, col, how = call
             repeat = v.repeat if v.repeat is not None else 1
             if repeat < 1:
                 raise ProgramError("invalid_value", f"P{repeat}: the repeat count must be at least 1", src)
             ret = nxt
             if target is not None and (cond is None or cond()):
                 ret = target()
-            it.pending = (name, args, src.at(col), repeat, ret)
+            it.pending = (name, args, src.at(col), repeat, ret, how)
             return CALL
         if end is not None:
             if len(it.stack) == 1:
@@ -438,9 +448,9 @@ def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
             return msg, col
         return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
     if isinstance(item, b.Call):
-        fs = [compile_expr(a, env) if a is not None else None for a in item.args]
+        fs = [_argument(a, env) for a in item.args]
         targets = [_ref_target(a) for a in item.args]
-        name = item.name
+        name, how = item.name, item.how
         if item.cycle:
             return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
 
@@ -449,6 +459,7 @@ def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
                 name,
                 [((g() if g else None), t) for g, t in zip(fs, targets, strict=True)],
                 col,
+                how,
             )
 
         return call, col
@@ -461,6 +472,17 @@ def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
             return ret, col
         return (lambda v: None), col
     raise AssertionError(f"unknown item {item!r}")
+
+
+def _argument(node, env):
+    """A call argument's getter: a variable named alone passes its value as it is (an array
+    passes the array itself, for a PROC's array parameter)."""
+    if node is None:
+        return None
+    if node.op == "var" and not node.args:
+        name = node.value
+        return lambda: env.vars[name]
+    return compile_expr(node, env)
 
 
 def _ref_target(node) -> b.Target | None:

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from interpreters.sinumerik import circles, polar, tracyl
+from interpreters.sinumerik import circles, increments, polar, tracyl
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
@@ -142,6 +142,8 @@ class Machine:
         self.last_move: tuple | None = None
         #: where motion commands go: ``out``, or the place of a block held for a chamfer
         self.sink: list = out
+        self.incr_offset = increments.traverses_offset(control)   # SD42440 (increments.py)
+        self.stale: dict[str, Frames] = {}
 
     def settable_frame(self, code: str) -> tuple[dict[str, float], tuple]:
         """Translations and linear part G500/G54... select: the model's zero offsets (the NCK's
@@ -179,6 +181,7 @@ class Machine:
 
     def restore(self, state: dict, src: SourceRef) -> None:
         frames = state.pop("frames")
+        increments.frame_changes(self)
         if PATH_MODES[state["path_mode"]] != PATH_MODES[self.path_mode]:
             self.out.append(canon.PathMode(src, mode=PATH_MODES[state["path_mode"]]))
         for k, v in state.items():
@@ -241,6 +244,7 @@ class Machine:
                     )
             elif grp == 8:
                 self.offset_code = name
+                increments.frame_changes(self)
                 self.frames.set_settable(*self.settable_frame(name))
                 self.emit_frame(src)
             elif grp == 9:
@@ -457,6 +461,7 @@ class Machine:
         if fc.name in polar.POLES:
             polar.set_pole(self, fc.name, vals, src.at(fc.col))
             return
+        increments.frame_changes(self)
         if fc.name in ("SCALE", "ASCALE", "MIRROR", "AMIRROR"):
             g = self.geometry
             for k in vals:
@@ -538,6 +543,8 @@ class Machine:
             new = self._plain_targets(v.axes)
         if new is None:
             new = self._targets(v, src, suppress)
+        for word, _ in v.axes if self.stale else ():
+            self.stale.pop(word.name, None)
         motion = self.motion
         centre = None
         if motion == "G1":
@@ -591,6 +598,8 @@ class Machine:
         new = self._plain_targets(words)
         if new is None:
             return False
+        for word, _ in words if self.stale else ():
+            self.stale.pop(word.name, None)
         if self.motion == "G1":
             if self.feed <= 0:
                 raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
@@ -618,6 +627,7 @@ class Machine:
         off = self.frames.off
         specs = self.specs
         absolute = self.absolute
+        stale = self.stale
         for word, value in words:
             cls = value.__class__
             if cls is not float and cls is not int:
@@ -627,6 +637,8 @@ class Machine:
             if spec is None:
                 return None
             mode = word.mode
+            if stale and name in stale and (mode == "IC" or (mode is None and not absolute)):
+                return None  # the frame changed since this axis moved: the general path
             if spec.modulo is None:
                 if mode is None:
                     new[name] = value + off.get(name, 0.0) if absolute else pos[name] + value
@@ -681,6 +693,8 @@ class Machine:
                 )
             elif mode == "IC" or (mode is None and not self.absolute):
                 new[name] = pos[name] + value
+                if name in self.stale and not suppress:   # SD42440: the offset change too
+                    new[name] += frames.offset(name) - self.stale[name].offset(name)
             else:
                 off = 0.0 if suppress else frames.offset(name)
                 if spec.modulo:
@@ -699,6 +713,8 @@ class Machine:
                 value *= scale
                 if self.diameter and word.name == transverse and not (inc and self.diam90):
                     value /= 2.0
+                if inc and not suppress and word.name in self.stale:  # SD42440: from the point as
+                    p[i] = self.stale[word.name].to_program(cur)[i]   # programmed, offset traversed
                 p[i] = p[i] + value if inc else value
             m = p if suppress else frames.to_machine(tuple(p))
             for i, n in enumerate(g):

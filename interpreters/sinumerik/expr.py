@@ -116,6 +116,7 @@ FUNCTIONS: dict[str, tuple[int, int]] = {
     "MINVAL": (2, 2),
     "MAXVAL": (2, 2),
     "BOUND": (3, 3),
+    "ISFILE": (1, 1),
 }
 #: frame functions (their arguments are axis names and values; see sysframes.py)
 FRAME_FUNCTIONS = frozenset({"CTRANS", "CROT", "CSCALE", "CMIRROR", "CFINE", "CRPL"})
@@ -538,13 +539,14 @@ class Env:
     sys : the NCK state (``nck.Nck``) system variables read and write, or None.
     """
 
-    __slots__ = ("r", "vars", "globals", "sys")
+    __slots__ = ("r", "vars", "globals", "sys", "files")
 
     def __init__(self) -> None:
         self.r: list[Any] = [0.0] * 1000
         self.vars: dict[str, Any] = {}
         self.globals: dict[str, Any] = {}
         self.sys: Any = None
+        self.files: Any = None  # the run's file sandbox (sandbox.Sandbox), for ISFILE
 
 
 def r_index(i: Any) -> int:
@@ -603,6 +605,9 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
             return lst[i]
 
         return get_elem
+    if op == "call" and node.value == "ISFILE":    # the run's sandbox: never folded
+        fa = compile_expr(node.args[0], env)
+        return lambda: env.files is not None and env.files.exists(fa())
     if op == "call":
         impl = FUNC_IMPL[node.value]
         fs = [compile_expr(a, env) for a in node.args]

@@ -14,15 +14,17 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from interpreters.sinumerik import archive, definitions, tracyl
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import definitions, tracyl
+from interpreters.sinumerik.commands import Recorder, not_found
 from interpreters.sinumerik.compile import CALL, SECTION, STOP, compile_block
 from interpreters.sinumerik.cutcom import flatten
 from interpreters.sinumerik.execute import Machine
 from interpreters.sinumerik.expr import Env, EvalError, Node, compile_expr, element, num, r_index, scope_of
 from interpreters.sinumerik.nck import Nck
 from interpreters.sinumerik.parser import parse_program
-from interpreters.sinumerik.structure import analyse, find_target
+from interpreters.sinumerik.sandbox import Sandbox
+from interpreters.sinumerik.structure import analyse, dynamic_target, find_target
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
 from vmach.errors import ProgramError
@@ -38,6 +40,7 @@ class Loaded:
     program: b.Program
     findings: list[Finding]
     ops: list[Callable[[], int]] | None = None
+    archive: dict[str, str] = field(default_factory=dict)  # later programs of its file (archive.py)
 
 
 @dataclass(slots=True)
@@ -55,11 +58,16 @@ class Level:
     passed: tuple = ()              # which PROC parameters the call gave ($P_SUBPAR)
 
 
-def read_program(path: Path, display: str, control: ControlSpec) -> Loaded:
+def read_program(path: Path, display: str, control: ControlSpec, text: str | None = None) -> Loaded:
+    """The program in ``path`` (or ``text``, a section of it), parsed and analysed, with the global
+    user data of its directory's definition files known."""
     gud = definitions.load(path, display, control)
-    program = parse_program(decode_text(read_bytes(path, display)), display, control, gud.variables)
-    findings = list(program.findings) + analyse(program)
-    return Loaded(program, findings)
+    text = decode_text(read_bytes(path, display)) if text is None else text
+    main, others, notes = archive.split(text, display)
+    program = parse_program(main, display, control, program_names(path.resolve().parent) | frozenset(others),
+                            known=gud.variables)
+    findings = notes + list(program.findings) + analyse(program)
+    return Loaded(program, findings, archive=others)
 
 
 def _entry(directory: Path, name: str) -> Path | None:
@@ -79,6 +87,15 @@ def _entry(directory: Path, name: str) -> Path | None:
                 if p.is_file():
                     return p
     return None
+
+
+def program_names(directory: Path) -> frozenset[str]:
+    """``NAME`` of every ``NAME.SPF``/``NAME.MPF`` in ``directory`` (upper case)."""
+    try:
+        entries = os.listdir(directory)
+    except OSError:
+        return frozenset()
+    return frozenset(e[:-4].upper() for e in entries if e[-4:].upper() in PROGRAM_SUFFIXES)
 
 
 def find_subprogram(directory: Path, name: str) -> Path | None:
@@ -115,12 +132,18 @@ class Interpreter:
         self.stack: list[Level] = []
         self.pending: tuple | None = None
         self.blocks = 0
+        self.archive: dict[str, tuple] = {}  # name -> (file, display, text): later programs of a file
+        self.recorder = Recorder()      # commands without effect on geometry (no_effect infos)
+        self.sandbox = Sandbox()        # WRITE/READ/DELETE/ISFILE files: in memory, empty at start
+        self.env.files = self.sandbox
 
     # -- loading ---------------------------------------------------------------------------
     def load(self, path: Path, display: str) -> Loaded:
         key = str(path.resolve())
         if key not in self.loaded:
             self.loaded[key] = read_program(path, display, self.control)
+            for name, text in self.loaded[key].archive.items():   # programs of an archive file
+                self.archive.setdefault(name, (path, display, text))
         return self.loaded[key]
 
     def ops(self, loaded: Loaded) -> list[Callable[[], int]]:
@@ -141,7 +164,8 @@ class Interpreter:
             self.findings.append(exc.finding)
             completed = False
         commands = tracyl.apply(flatten(self.out)) if self.machine.placeholders else self.out
-        return RunResult(commands, self.machine.notes + self.findings, completed, self.blocks)
+        notes = self.machine.notes + self.recorder.findings()
+        return RunResult(commands, notes + self.findings, completed, self.blocks)
 
     def define_globals(self) -> None:
         """The global user data of the program's directory, with their initial values."""
@@ -180,6 +204,9 @@ class Interpreter:
             level.passed = tuple(a[0] is not None for a in args)
             for i, p in enumerate(proc.params):
                 value, target = args[i] if i < len(args) else (None, None)
+                if p.dims or isinstance(value, list):        # an array: passed by reference
+                    variables[p.name] = _array_argument(p, value, src)
+                    continue
                 variables[p.name] = _convert(p.type, value if value is not None else _default(p.type), p.name)
                 if p.by_ref and target is not None:
                     level.back.append((p.name, target))
@@ -242,9 +269,9 @@ class Interpreter:
             self.blocks = count
             program = level.loaded.program
             if pc == CALL:
-                name, args, src, repeat, ret = self.pending  # type: ignore[misc]
+                name, args, src, repeat, ret, how = self.pending  # type: ignore[misc]
                 level.pc = ret
-                self.call(name, args, src, repeat)
+                self.call(name, args, src, repeat, how)
                 continue
             if pc == SECTION:
                 start, stop, repeat, src, ret = self.pending  # type: ignore[misc]
@@ -270,10 +297,19 @@ class Interpreter:
     def src(self, level: Level, blk: b.Block, col: int = 1) -> SourceRef:
         return SourceRef(level.loaded.program.path, blk.line, col, blk.text)
 
-    def call(self, name: str, args: list, src: SourceRef, repeat: int) -> None:
+    def call(self, name: str, args: list, src: SourceRef, repeat: int, how: str = "") -> None:
+        """Call ``name`` (``how``: "CALL", "PCALL", "EXTCALL" when the program names a file,
+        "" for a call by name)."""
         caller_dir = (
             Path(self.stack[-1].loaded.program.path).resolve().parent if self.stack else self.directory
         )
+        if name in self.archive:                   # a later program of an archive file
+            path, display, text = self.archive[name]
+            key = f"{path.resolve()}#{name}"
+            if key not in self.loaded:
+                self.loaded[key] = read_program(path, display, self.control, text)
+            self.push(self.loaded[key], src, args, repeat)
+            return
         path = find_subprogram(caller_dir, name)
         if path is None and (link := linked_outside(caller_dir, name)) is not None:
             raise ProgramError(
@@ -281,9 +317,8 @@ class Interpreter:
                 f"(to {link.resolve()}); vmach reads subprograms only from {caller_dir}", src
             )
         if path is None:
-            raise ProgramError(
-                "subprogram_not_found", f"{name}: no {name}.SPF or {name}.MPF in {caller_dir}", src
-            )
+            kind, message = not_found(name, how, program_names(caller_dir), self.control)
+            raise ProgramError(kind, f"{message} (in {caller_dir})", src, name=name)
         display = os.path.join(os.path.dirname(self.stack[-1].loaded.program.path), path.name)
         loaded = self.load(path, display)
         self.push(loaded, src, args, repeat)
@@ -351,6 +386,19 @@ class Interpreter:
 
     def jump_target(self, program: b.Program, blk: b.Block, jump: b.Jump) -> Callable[[], int]:
         """A closure giving the landing index, or raising the control's alarm when missing."""
+        if jump.variable:                         # GOTOF DEST: DEST's value at run time
+            env, name, source = self.env, jump.target, SourceRef(program.path, blk.line, jump.col, blk.text)
+
+            def variable():
+                tgt = dynamic_target(program, blk, jump, env.vars[name])
+                if tgt is None:
+                    if jump.how == "GOTOC":
+                        return blk.index + 1
+                    raise ProgramError("undefined_label", f"{jump.how} {name}: no destination "
+                                       f"{env.vars[name]!r}", source)
+                return tgt
+
+            return variable
         tgt = find_target(program, blk.index, jump)
         if tgt is not None:
             return lambda: tgt
@@ -369,6 +417,22 @@ class Interpreter:
             )
 
         return missing
+
+
+def _array_argument(p: b.Param, value, src: SourceRef) -> list:
+    """The caller's array itself for the array parameter ``p`` (``VAR REAL A[3]``): what the
+    subprogram writes, the caller reads."""
+    if not p.dims or not isinstance(value, list):
+        what = "an array" if isinstance(value, list) else "no array"
+        raise ProgramError("type_error", f"{p.name}: {what} passed to a parameter that takes "
+                           f"{'an array' if p.dims else 'a value'}", src)
+    inner = value
+    for n in p.dims:
+        if not isinstance(inner, list) or (n and len(inner) != n):
+            raise ProgramError("type_error", f"{p.name}: the array passed has not the sizes "
+                               f"{list(p.dims)} of the parameter", src)
+        inner = inner[0] if inner else None
+    return value
 
 
 def _default(typ: str):

@@ -34,8 +34,34 @@ def _load() -> tuple[dict[str, Code], dict[str, list[str]]]:
     return codes, data["words"]
 
 
+@dataclass(frozen=True, slots=True)
+class Command:
+    """A predefined command that is not a G-group code (``commands.toml``).
+
+    kind : "keyword", "procedure", "value", "axis_value", "position", "alarm",
+        "setting_cycle" or "cycle" (one handler each in ``commands.py``)
+    effect : what it does on the control (for the ``no_effect`` info and the docs)
+    """
+
+    name: str
+    kind: str
+    effect: str
+
+
+def _load_commands() -> dict[str, Command]:
+    data = tomllib.loads((Path(__file__).with_name("commands.toml")).read_text("utf-8"))
+    out: dict[str, Command] = {}
+    for entry in data["command"]:
+        for name in entry["names"]:
+            if name in out:
+                raise ValueError(f"commands.toml: {name} is listed twice")
+            out[name] = Command(name, entry["kind"], entry["effect"])
+    return out
+
+
 CODES, WORDS = _load()
-ACCEPTED_WORDS = frozenset(WORDS["accepted"])
+COMMANDS = _load_commands()
+ACCEPTED_WORDS = frozenset(n for n, c in COMMANDS.items() if c.kind == "keyword")
 STATEMENTS = frozenset(WORDS["statements"])
 PROC_ATTRIBUTES = frozenset(WORDS["proc_attributes"])
 TYPES = frozenset(WORDS["types"])

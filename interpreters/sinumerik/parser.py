@@ -10,14 +10,15 @@ import difflib
 import math
 import re
 
+from interpreters.sinumerik import arrays, commands, sysvars
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import sysvars
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
-from interpreters.sinumerik.expr import MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
+from interpreters.sinumerik.expr import FUNCTIONS, MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
 from interpreters.sinumerik.language import (
     ACCEPTED_WORDS,
     CODES,
+    COMMANDS,
     PROC_ATTRIBUTES,
     STATEMENTS,
     TYPES,
@@ -37,7 +38,11 @@ _LOOSE_AXIS = re.compile(r"^[ABCUVWXYZ]\d*$")
 _LABEL = re.compile(r"^[A-Z_][A-Z_][A-Z0-9_]{0,30}$")
 _BLOCKNO = re.compile(r"^N(\d+)$")
 _SPINDLE_ADDR = re.compile(r"^([SM])(\d+)$")
-_JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC")
+_H_ADDR = re.compile(r"^H(\d+)$")
+_JUMPS = ("GOTOF", "GOTOB", "GOTO", "GOTOC", "GOTOS")
+#: statements that open or close a control structure (blocks.Block.shape)
+_SHAPES = frozenset({"IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "REPEAT", "UNTIL",
+                     "LOOP", "ENDLOOP"})
 _MODES = ("AC", "IC", "ACP", "ACN", "DC")
 _INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "turn",
            "RND": "corner", "RNDM": "corner", "CHF": "corner", "CHR": "corner", "FRC": "corner",
@@ -51,12 +56,18 @@ _SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "
 class Grammar:
     """What a word may be on this machine: axes, cycles, machine G codes."""
 
-    def __init__(self, control: ControlSpec):
+    def __init__(self, control: ControlSpec, programs: frozenset[str] = frozenset()):
         self.control = control
         self.axes = {a.name for a in control.axes} | set(control.geometry)
         self.strict = control.strict_axes
         self.cycles = control.cycles
         self.gcodes = control.gcodes
+        self.programs = programs
+        #: names read whole in words without separators (lexer.split_words): the language's
+        #: words, the machine's axes, cycles and G codes, the programs beside this one
+        self.names = frozenset().union(CODES, STATEMENTS, COMMANDS, UNSUPPORTED_WORDS, FUNCTIONS,
+                                       _BUILTINS, DRILLING, PATTERNS, self.axes, self.cycles,
+                                       self.gcodes, programs)
 
     def is_axis(self, name: str) -> bool:
         if name in self.axes:
@@ -125,8 +136,12 @@ class BlockParser:
         return node
 
     # -- block -----------------------------------------------------------------------------
+    def is_name(self, ident: str) -> bool:
+        """Whether the control knows ``ident`` as one name (never split into address words)."""
+        return ident in self.g.names or ident in self.variables
+
     def parse(self, block: b.Block, code: str) -> None:
-        self.toks = tokenize(code, self.src)
+        self.toks = tokenize(code, self.src, self.is_name)
         self.pos = 0
         if self.is_op("/"):
             block.skip = True
@@ -157,6 +172,10 @@ class BlockParser:
 
     def statement(self, block: b.Block, t: Token) -> None:
         name = t.text
+        if name in _SHAPES:  # kept when the rest of the block does not parse
+            jumps = name == "IF" and any(x.kind == IDENT and x.text in _JUMPS for x in self.toks)
+            section = name == "REPEAT" and self.peek().kind != END      # REPEAT label: no structure
+            block.shape = "" if jumps or section else name.lower()
         self.pos += 1
         if name == "IF":
             block.cond = self.expr()
@@ -218,13 +237,10 @@ class BlockParser:
             block.kind = "nc"
             block.items.append(b.Keyword(t.col, "RET"))
             self.expect_end("RET")
-        elif name == "CALL":
+        elif name in ("CALL", "EXTCALL", "PCALL"):
             block.kind = "nc"
-            if self.tok.kind != STR:
-                self.fail("syntax", 'CALL needs a program name in quotes: CALL "NAME"')
-            block.items.append(b.Call(t.col, self.tok.value.upper()))
-            self.pos += 1
-            self.expect_end("CALL")
+            block.items.append(commands.program_call(self, t))
+            self.expect_end(name)
         elif name == "EXTERN":
             block.kind = "empty"  # declaration of a subprogram's signature: nothing to run
             self.pos = len(self.toks) - 1
@@ -254,6 +270,11 @@ class BlockParser:
             self.fail("syntax", f"expected GOTOF/GOTOB/GOTO/GOTOC, found {self.describe(t)}")
         self.pos += 1
         tgt = self.tok
+        if t.text == "GOTOS":                      # back to the program's first block
+            return b.Jump("GOTOS", "", None, t.col)
+        if tgt.kind == IDENT and getattr(self.variables.get(tgt.text), "type", "") == "STRING":
+            self.pos += 1                         # GOTOF DEST: the label DEST holds, at run time
+            return b.Jump(t.text, tgt.text, None, tgt.col, variable=True)
         if tgt.kind == IDENT:
             self.pos += 1
             m = _BLOCKNO.match(tgt.text)
@@ -263,6 +284,9 @@ class BlockParser:
         if tgt.kind == STR:
             self.pos += 1
             return b.Jump(t.text, tgt.value.upper(), None, tgt.col)
+        if tgt.kind == NUM and isinstance(tgt.value, int):  # GOTOF 90: the block N90 (or :90)
+            self.pos += 1
+            return b.Jump(t.text, f"N{tgt.value}", tgt.value, tgt.col)
         self.fail("syntax", f"{t.text} needs a label or block number")
         raise AssertionError  # unreachable
 
@@ -337,19 +361,11 @@ class BlockParser:
                     self.fail("resource_limit", f"{nt.text} has {math.prod(dims)} elements (vmach simulates "
                               f"arrays of up to {MAX_ARRAY_ELEMENTS})", nt.col)
             init = None
-            init_list: tuple[Node, ...] = ()
+            init_list: tuple[Node | None, ...] = ()
             if self.is_op("="):
                 self.pos += 1
                 if dims:
-                    if self.tok.kind == IDENT and self.tok.text == "SET":
-                        self.pos += 1
-                    self.expect_op("(")
-                    items = [self.expr()]
-                    while self.is_op(","):
-                        self.pos += 1
-                        items.append(self.expr())
-                    self.expect_op(")")
-                    init_list = tuple(items)
+                    init_list = arrays.value_list(self, math.prod(dims), nt.text)
                 elif typ == "AXIS" and self.tok.kind == IDENT and self.g.is_axis(self.tok.text):
                     init = Node("str", self.tok.col, self.tok.text)
                     self.pos += 1
@@ -390,13 +406,17 @@ class BlockParser:
                 if pn.kind != IDENT:
                     self.fail("syntax", "a PROC parameter needs a name")
                 self.pos += 1
-                if self.is_op("["):  # array parameter
+                dims: list[int] = []
+                if self.is_op("["):  # array parameter: VAR REAL A[3] (A[] or A[,] of any size)
                     while not self.is_op("]"):
                         if self.tok.kind == END:
                             self.fail("syntax", "unclosed '['")
+                        if self.tok.kind == NUM:
+                            dims.append(int(self.tok.value))
                         self.pos += 1
                     self.pos += 1
-                p = b.Param(tt.text, pn.text, by_ref)
+                    dims = dims or [0]
+                p = b.Param(tt.text, pn.text, by_ref, tuple(dims))
                 params.append(p)
                 self.variables[pn.text] = p
                 if self.is_op(","):
@@ -427,9 +447,14 @@ class BlockParser:
                 self.expect_end("the jump")
                 break
             self.pos += 1
-            if self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R"
+            if name in COMMANDS and commands.is_command_start(self, name):
+                items.append(commands.read(self, t))
+            elif name in ("AX", "SPOS", "SPOSA") and self.is_op("["):   # AX[X]=, SPOS[n]=
+                items.append(commands.bracketed(self, t))
+            elif self.is_op("=") or (self.is_op("[") and (name in self.variables or name == "R"
                                                          or name.startswith("$"))):
-                items.append(self.assignment(t))
+                item = self.assignment(t)      # a $ system variable: sysvars decides (as when read)
+                items.extend(item if isinstance(item, list) else (item,))
             elif self.is_op("("):
                 items.append(self.call_with_args(t))
             else:
@@ -449,12 +474,15 @@ class BlockParser:
                     )
                 groups[it.code.group] = it
 
-    def assignment(self, t: Token) -> b.Item:
+    def assignment(self, t: Token) -> b.Item | list[b.Item]:
         name = t.text
         if (name == "R" or (name[0] == "R" and name[1:].isdigit()) or name in self.variables
                 or name.startswith("$")):
             target = self.target(t)
             self.expect_op("=")
+            if target.name is not None and self.tok.kind == IDENT and self.tok.text in ("SET", "REP") \
+                    and self.is_op("(", 1):
+                return arrays.fill(self, t, target)
             return b.Assign(t.col, target, self.expr())
         self.pos += 1  # '='
         return self.address(t, name)
@@ -475,8 +503,11 @@ class BlockParser:
         if m:
             kind = "speed" if m.group(1) == "S" else "m"
             return b.Word(t.col, name, kind, self.expr(), int(m.group(2)))
-        if name == "SPOS" or (name.startswith("SPOS") and name[4:].isdigit()):
-            return b.Word(t.col, name, "spos", self.expr())
+        if name in ("SPOS", "SPOSA") or (name.startswith("SPOS") and name[4:].isdigit()):
+            mode, node = self.moded_value()
+            return b.Word(t.col, name, "spos", node, None, mode)
+        if (m := _H_ADDR.match(name)) is not None:   # H7=1: auxiliary function with extension
+            return b.Word(t.col, name, "aux", self.expr(), int(m.group(1)))
         if name in CODES or name in STATEMENTS:
             self.fail("syntax", f"{name} takes no value", t.col)
         self.fail("unknown_word", self.unknown_word_message(name), t.col)
@@ -512,25 +543,37 @@ class BlockParser:
             self.fail("unsupported", f"{name} is not simulated", t.col)
         if (name in CODES and name not in _BUILTINS) or name in ACCEPTED_WORDS or name in self.variables:
             self.fail("syntax", f"{name} takes no arguments", t.col)
-        self.expect_op("(")
-        args: list[Node | None] = []
-        if not self.is_op(")"):
-            while True:
-                if self.is_op(",") or self.is_op(")"):
-                    args.append(None)
-                else:
-                    args.append(self.expr())
-                if self.is_op(","):
-                    self.pos += 1
-                    continue
-                break
-        self.expect_op(")")
+        args = self.arguments()
         if name in _BUILTINS:
             if name == "SETMS" and len(args) > 1:
                 self.fail("syntax", "SETMS takes at most one spindle number", t.col)
             return b.Builtin(t.col, name, tuple(args))
         standard = name in DRILLING or name in PATTERNS
         return b.Call(t.col, name, tuple(args), cycle=name in self.g.cycles or standard)
+
+    def arguments(self, loose: bool = False) -> tuple[Node | None, ...]:
+        """``(a, , b)``: expressions and empty places (None). ``loose``: a name the program does
+        not define, alone in its place (an axis ``X``, a mode constant ``_FINISH``), is kept as
+        text."""
+        self.expect_op("(")
+        args: list[Node | None] = []
+        if not self.is_op(")"):
+            while True:
+                tok = self.tok
+                if self.is_op(",") or self.is_op(")"):
+                    args.append(None)
+                elif loose and tok.kind == IDENT and tok.text not in self.variables \
+                        and not tok.text.startswith("$") and (self.is_op(",", 1) or self.is_op(")", 1)) \
+                        and not (tok.text[0] == "R" and tok.text[1:].isdigit()):
+                    args.append(Node("str", tok.col, tok.text))
+                    self.pos += 1
+                else:
+                    args.append(self.expr())
+                if not self.is_op(","):
+                    break
+                self.pos += 1
+        self.expect_op(")")
+        return tuple(args)
 
     def plain(self, t: Token, block: b.Block) -> b.Item | None:
         """A word without '=': G code, keyword, address+number, or a call by name."""
@@ -559,8 +602,8 @@ class BlockParser:
             if code.group == 3:
                 return self.frame(t)
             return b.GCode(t.col, code)
-        if name in ACCEPTED_WORDS:
-            return b.Keyword(t.col, name)
+        if name == "SETMS":                             # SETMS alone: the configured master
+            return b.Builtin(t.col, name)
         if name == "MCALL":
             return self.modal_call(t)
         if name in UNSUPPORTED_WORDS:
@@ -662,7 +705,7 @@ class BlockParser:
         return b.FrameCmd(t.col, t.text, tuple(words), rpl)
 
     def unknown_word_message(self, name: str, full: str | None = None) -> str:
-        pool = list(CODES) + list(self.g.cycles) + sorted(self.g.axes) + list(ACCEPTED_WORDS)
+        pool = list(CODES) + list(self.g.cycles) + sorted(self.g.axes) + list(COMMANDS)
         close = difflib.get_close_matches(name, pool, n=1, cutoff=0.8)
         hint = f"; did you mean {close[0]}?" if close else ""
         return f"unknown word {full or name!r}{hint}"
@@ -672,11 +715,16 @@ def _machine_code(name: str) -> Code:
     return Code(name, -1, "machine", False, "codes")
 
 
-def parse_program(text: str, path: str, control: ControlSpec, known: dict | None = None) -> b.Program:
+def parse_program(
+    text: str, path: str, control: ControlSpec, programs: frozenset[str] = frozenset(),
+    known: dict | None = None,
+) -> b.Program:
     """Parse a whole program; never raises for bad text (findings collect the problems).
-    ``known``: variables defined before the program (global user data, ``definitions.py``)."""
+    ``programs``: the names of the programs beside it (``NAME`` of ``NAME.SPF``), which words
+    without separators do not split. ``known``: variables defined before the program (global
+    user data, ``definitions.py``)."""
     lines = text.splitlines()
-    grammar = Grammar(control)
+    grammar = Grammar(control, programs)
     variables: dict = dict(known or {})
     blocks: list[b.Block] = []
     findings: list[Finding] = []
@@ -720,7 +768,7 @@ def _explain(exc: ProgramError, parser: BlockParser, src: SourceRef, code: str) 
         known = (
             first in CODES
             or first in STATEMENTS
-            or first in ACCEPTED_WORDS
+            or first in COMMANDS
             or first in parser.g.cycles
             or first in parser.variables
             or parser.g.is_axis(first)

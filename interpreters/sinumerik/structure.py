@@ -10,6 +10,8 @@
 
 from __future__ import annotations
 
+import re
+
 from interpreters.sinumerik.blocks import Block, Jump, Program, Word
 from vmach.findings import Finding, error, warning
 from vmach.source import SourceRef
@@ -59,6 +61,10 @@ def ends_program(block: Block) -> str | None:
 
 def find_target(program: Program, at: int, jump: Jump) -> int | None:
     """Block index the jump lands on, searching as the control does; None when not found."""
+    if jump.how == "GOTOS":
+        return 0
+    if jump.variable:
+        return None                        # known at run time only (dynamic_target)
     cands = (
         program.numbers.get(jump.number, [])
         if jump.number is not None
@@ -122,11 +128,11 @@ def _pair(program: Program) -> list[Finding]:
     out: list[Finding] = []
     stack: list[Block] = []
     for blk in program.blocks:
-        k = blk.kind
+        k = blk.kind if blk.kind != "bad" else blk.shape  # a bad IF still opens its structure
         if k in _OPENERS:
             stack.append(blk)
         elif k == "else":
-            if not stack or stack[-1].kind != "if":
+            if not stack or _shape(stack[-1]) != "if":
                 out.append(error("unbalanced_block", "ELSE without IF", src(program, blk)))
             elif stack[-1].partner2 >= 0:
                 out.append(error("unbalanced_block", "second ELSE for the same IF", src(program, blk)))
@@ -135,8 +141,8 @@ def _pair(program: Program) -> list[Finding]:
                 blk.partner = stack[-1].index
         elif k in _CLOSERS:
             want = _CLOSERS[k]
-            if not stack or stack[-1].kind != want:
-                open_txt = f" (open: {stack[-1].kind.upper()} at line {stack[-1].line})" if stack else ""
+            if not stack or _shape(stack[-1]) != want:
+                open_txt = f" (open: {_shape(stack[-1]).upper()} at line {stack[-1].line})" if stack else ""
                 out.append(
                     error(
                         "unbalanced_block",
@@ -151,14 +157,20 @@ def _pair(program: Program) -> list[Finding]:
             if opener.partner2 >= 0:
                 program.blocks[opener.partner2].partner2 = blk.index  # ELSE -> ENDIF
     for blk in stack:
+        k = _shape(blk)
         out.append(
             error(
                 "unbalanced_block",
-                f"{blk.kind.upper()} at line {blk.line} is never closed by {_OPENERS[blk.kind].upper()}",
+                f"{k.upper()} at line {blk.line} is never closed by {_OPENERS[k].upper()}",
                 src(program, blk),
             )
         )
     return out
+
+
+def _shape(blk: Block) -> str:
+    """The structure statement a block is, also when the rest of it did not parse."""
+    return blk.kind if blk.kind != "bad" else blk.shape
 
 
 def _defs_first(program: Program) -> list[Finding]:
@@ -193,7 +205,7 @@ def _jumps(program: Program) -> list[Finding]:
         )
         for j in jumps:
             tgt = find_target(program, blk.index, j)
-            if tgt is not None:
+            if tgt is not None or j.variable:
                 continue
             what = f"block number N{j.number}" if j.number is not None else f"label {j.target}"
             cands = (
@@ -236,6 +248,15 @@ def _jumps(program: Program) -> list[Finding]:
     return out
 
 
+def dynamic_target(program: Program, blk: Block, jump: Jump, value) -> int | None:
+    """Where ``jump`` to a STRING variable lands when the variable holds ``value`` (a label,
+    or a block number ``N100``/``100``); None when nowhere."""
+    text = str(value).strip().upper()
+    m = re.match(r"^N?(\d+)$", text)
+    fixed = Jump(jump.how, text, int(m.group(1)) if m else None, jump.col)
+    return find_target(program, blk.index, fixed)
+
+
 def successors(program: Program, i: int) -> list[int]:
     """Blocks control can pass to from block ``i`` (static, both outcomes of conditions)."""
     blocks = program.blocks
@@ -245,6 +266,8 @@ def successors(program: Program, i: int) -> list[int]:
     if k == "nc":
         if ends_program(blk):
             return []
+        if blk.jump is not None and blk.jump.variable:   # any label or block number, or on
+            return sorted({i for v in (*program.labels.values(), *program.numbers.values()) for i in v}) + nxt
         if blk.jump is not None:
             t = find_target(program, i, blk.jump)
             tg = [t] if t is not None else []

@@ -140,3 +140,29 @@ def test_a_subprogram_linked_from_outside_is_named_as_such(tmp_path):
     assert kinds(check(job, "G0 X1\nEVIL\nM30\n")) == [("subprogram_outside", 2)]
     (job / "EVIL.SPF").unlink()
     assert kinds(check(job, "G0 X1\nEVIL\nM30\n")) == [("unknown_cycle", 2)]
+
+
+@pytest.mark.parametrize(
+    "head",
+    ["IF $P_NOSUCH==1", "IF NOSUCH>0", "WHILE NOSUCH<3", "IF (1+", "FOR R1=NOSUCH TO 3"],
+)
+def test_a_structure_whose_head_does_not_parse_still_pairs(tmp_path, head):
+    # one finding at the head itself; its ELSE/ENDIF, ENDWHILE, ENDFOR are not unbalanced
+    close = {"IF": "ENDIF", "WHILE": "ENDWHILE", "FOR": "ENDFOR"}[head.split()[0]]
+    middle = "ELSE\nG0 X2\n" if close == "ENDIF" else ""
+    text = f"G0 X0\n{head}\nG0 X1\n{middle}{close}\nIF R1>0\nG0 X3\nENDIF\nM30\n"
+    found = check(tmp_path, text)
+    assert [(f.kind, f.line) for f in found if f.severity == "error"] == [(found[0].kind, 2)]
+    assert "unbalanced_block" not in [f.kind for f in found]
+
+
+def test_a_for_that_does_not_parse_stops_the_run_at_itself(tmp_path):
+    # its ENDFOR pairs with it (no cascade) and the run stops at the FOR with its own error
+    r = run(tmp_path, "G0 X1\nFOR NN=0 TO 1\nG0 X2\nENDFOR\nM30\n")
+    f = [x for x in r.findings if x.severity == "error"]
+    assert not r.completed and [(x.kind, x.line) for x in f] == [("undefined_variable", 2)]
+
+
+@pytest.mark.parametrize("text", ["$P_NOSUCH=1\nM30\n", "$A_NOSUCH[1]=1\nM30\n", "R1=$P_NOSUCH\nM30\n"])
+def test_writing_and_reading_an_unsupported_variable_give_the_same_kind(tmp_path, text):
+    assert [f.kind for f in check(tmp_path, text)] == ["unsupported"]

@@ -72,4 +72,4 @@ def test_a_run_without_pictures_leaves_no_older_picture_in_out(tmp_path, capsys)
     assert main(["verify", str(job / "SLOT.MPF"), "--out", str(out), "--no-images"]) == 1
     capsys.readouterr()
     assert json.loads((out / "report.json").read_text())["images"] == {}
-    assert sorted(p.name for p in out.iterdir()) == ["keep", "notes.png", "report.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["keep", "notes.png", "report.html", "report.json"]

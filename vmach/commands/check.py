@@ -25,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
     path = Path(args.program)
     if not path.is_file():
         raise InputError(f"{args.program}: no such file", kind="unreadable")
-    control, _ = control_for(path, args.machine)
+    control, _ = control_for(path, args.machine, machine_data=False)   # static checks only
     dialect = interpreters.dialect_for(path, args.dialect, control.dialect)
     findings = dialect.check(args.program, control)
     errors = sum(f.severity == "error" for f in findings)

@@ -77,3 +77,14 @@ class WithDefault:
         if not self.stood_in(tool):
             return self.library.radius(tool, d)
         return self.default.radius if d else None
+
+    def data(self, tool: str | int, d: int) -> dict[str, float | str] | None:
+        """The control's tool data of offset D``d`` (as :meth:`ToolLibrary.data`); the stand-in's
+        for a tool the library lacks (length 0: the stand-in has no offset of its own)."""
+        if not self.stood_in(tool):
+            return self.library.data(tool, d)
+        radius = self.radius(tool, d)
+        if radius is None:
+            return None
+        return {"name": str(tool), "type": self.default.kind, "length": 0.0, "radius": radius,
+                "teeth": self.default.teeth}
