@@ -19,6 +19,7 @@ HEAVY_OWNERS = {
     "manifold3d": {"vmach/stock/engine.py"},
     "pyvista": {"vmach/report/render.py"},
     "vtk": {"vmach/report/render.py"},
+    "igl": {"vmach/checks/distance.py"},
 }
 
 

@@ -21,6 +21,7 @@ STAGES = {
     "stock": "material removal, rapid_into_stock, holder_collision, near_miss",
     "fixture_collisions": "fixture_collision and near_miss of the tools against chuck, jaws, table",
     "profile": "the part against its DIN profile band",
+    "design": "the part against its design (design_gouge, design_excess)",
     "cycle_time": "the program's cycle time",
 }
 

@@ -48,6 +48,9 @@ class VerifyOptions:
     clearance: float = 1.0  # near-miss distance for rapids, mm
     accuracy: str | None = None  # stock simulation preset (vmach.tol.ACCURACY); None: setup, else standard
     dialect: str | None = None  # None: by the extension, or the machine's (interpreters.dialect_for)
+    design: str | None = None  # the part's design (.stl/.3mf/.ply/.step), compared with the cut part
+    design_tolerance: str | None = None  # "+0.05/-0.02" mm (vmach.checks.design.parse_band)
+    design_offset: str | None = None  # "X,Y,Z" mm: the design moved in the workpiece frame
     default_tool: str | None = None  # stand-in for tools the library lacks (vmach.tooling.default)
     progress: Any = None  # vmach.progress.Progress told of each phase (None: nothing shown)
     #: a dialect's own settings (RunOptions.dialect_options: LinuxCNC tool table, INI, .var)
@@ -75,6 +78,7 @@ class Report:
     library: Any = None  # vmach.tooling.ToolLibrary
     profile_spec: str | None = None
     accuracy: str = "standard"  # the stock simulation's preset (vmach.tol.ACCURACY)
+    design: Any = None  # vmach.checks.design_findings.DesignOutcome with --design
     skipped: dict[str, str] = field(default_factory=dict)  # stage -> why it did not run (coverage)
     stopped_at: Any = None  # SourceRef of the error that stopped an unfinished run (coverage)
 
@@ -148,6 +152,7 @@ class Report:
             "findings": [_finding_json(f) for f in findings],
             "simulation": self.simulation(),
             "profile": self.profile,
+            "design": None if self.design is None else self.design.to_json(),
             "cycle_time_s": None if cycle is None else cycle["total_s"],
             "cycle_time": cycle,
             "images": dict(self.images),
@@ -257,6 +262,10 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         with setting(setup, "profile", options.profile), setting(setup, "profile_z", options.profile_z):
             profile_plan = (_profile_plan(report.profile_spec, options.profile_z or setup.profile_z, options)
                             if report.profile_spec else None)
+        if options.design:                # the design is read now too (vmach.checks.design_findings)
+            from vmach.checks.design_findings import plan_design
+
+            design_plan = plan_design(options.design, options.design_tolerance, options.design_offset)
 
     with clock("interpret"):
         dialect = interpreters.dialect_for(path, options.dialect, control.dialect)
@@ -304,8 +313,9 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         report.findings.extend(spindle_off_cuts(table, model.tool_spindle, None if blank is None else partial(
             in_envelope, table, model, library, _bounds(blank))))
     coverage.say_skipped(report, spec, library, profile_plan is not None)
-    if options.export and not simulated:
-        raise InputError(f"--export needs a simulated stock: give {'--tools' if spec else '--stock'} "
+    if (options.export or options.design) and not simulated:
+        which = "export" if options.export else "design"
+        raise InputError(f"--{which} needs a simulated stock: give {'--tools' if spec else '--stock'} "
                          "(or name it in vmach.toml)", kind="usage")
     if simulated:
         with clock("stock"):
@@ -338,6 +348,16 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         if profile_plan is not None and report.stopped_at is None:
             with clock("profile"):
                 report.findings.extend(_profile(report, stock, report.profile_spec, profile_plan, options))
+        if options.design and report.stopped_at is not None:
+            coverage.skip(report, "design", "the program did not run to its end: its part is not the "
+                          "finished one", report.stopped_at)
+        elif options.design:
+            with clock("design"):
+                from vmach.checks.design_findings import check_design
+
+                report.design = check_design(design_plan, stock.solid, table, model, library,
+                                             stock.initial_bounds, options.out)
+                report.findings.extend(report.design.findings)
 
     if not simulated:
         _collisions(report, clock, model, table, library, options)

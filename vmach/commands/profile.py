@@ -16,6 +16,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--png", metavar="FILE", help="write the nominal curve as a PNG")
     p.add_argument("--format", choices=("text", "json"), default="text")
     p.add_argument("--list", action="store_true", help="list the P3G size table")
+    g = p.add_argument_group("design", "write the nominal shaft end as a mesh, for verify --design")
+    g.add_argument("--design-stl", metavar="FILE",
+                   help="write the nominal part (.stl, .3mf or .ply): the profile from Z = 0 to "
+                   "Z = -LENGTH in the workpiece frame")
+    g.add_argument("--length", type=float, help="polygon length along Z, mm (needed with --design-stl)")
+    g.add_argument("--chamfer", metavar="ANGLExLEN", help="lead-in chamfer at Z = 0, e.g. 15x3 (degrees "
+                   "from the axis x axial length, mm)")
+    g.add_argument("--shoulder", metavar="D:L", help="the shoulder behind the polygon: the "
+                   "cylinder's diameter and length, mm, e.g. 60:60")
+    g.add_argument("--phase", type=float, default=0.0,
+                   help="turn of the profile about Z, degrees (the polygon-shaft programs: 30)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -44,6 +55,8 @@ def run(args: argparse.Namespace) -> int:
         standard = "DIN 32711" if prof.kind == "P3G" else "DIN 32712"
         profile_png(args.png, curves, title=f"{standard} {prof.name}", labels=labels, scale=True)
         data["png"] = args.png
+    if args.design_stl is not None:
+        data["design"] = _write_design(prof, args)
     if args.format == "json":
         print(json.dumps(data, indent=2))
     else:
@@ -64,7 +77,41 @@ def run(args: argparse.Namespace) -> int:
                 print(f"  {label[key]:<20s} {data[key]:10.4f} {unit}")
         if args.png is not None:
             print(f"  curve written to {args.png}")
+        if args.design_stl is not None:
+            d = data["design"]
+            print(f"  nominal part written to {d['path']} ({d['triangles']} triangles, "
+                  f"{d['volume_mm3']:.1f} mm³)")
     return 0
+
+
+def _write_design(prof, args) -> dict:
+    """Write the nominal shaft end of ``prof`` (:mod:`vmach.checks.nominal`) whole or not at all."""
+    import trimesh
+
+    from vmach.checks.nominal import ShaftDesign, parse_pair, shaft_mesh
+    from vmach.errors import InputError
+    from vmach.output import atomic_writer, writable_file
+
+    path = writable_file(args.design_stl)
+    ext = path.suffix.lower()
+    if ext not in (".stl", ".3mf", ".ply"):
+        raise InputError(f"{path}: the design is written as .stl, .3mf or .ply", kind="export_format")
+    if args.length is None:
+        raise InputError("--design-stl needs --length (the polygon's length along Z, mm)", kind="usage")
+    design = ShaftDesign(
+        length=args.length,
+        chamfer=parse_pair(args.chamfer, "--chamfer") if args.chamfer else None,
+        shoulder=parse_pair(args.shoulder, "--shoulder") if args.shoulder else None,
+        phase_deg=args.phase,
+    )
+    v, f = shaft_mesh(prof, design)
+    mesh = trimesh.Trimesh(v, f, process=False)
+    blob = mesh.export(file_type=ext[1:])
+    with atomic_writer(path, "wb") as fh:
+        fh.write(blob if isinstance(blob, bytes) else blob.encode())
+    return {"path": str(path), "triangles": int(len(f)), "volume_mm3": round(float(mesh.volume), 3),
+            "length": design.length, "chamfer": design.chamfer, "shoulder": design.shoulder,
+            "phase_deg": design.phase_deg}
 
 
 #: colours of the drawing: the profile, its circumscribed and inscribed circles

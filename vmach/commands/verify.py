@@ -64,6 +64,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "0.0035 mm: about 0.005 mm everywhere, about 1.7 times the time; docs/stock.md); default: "
         "the vmach.toml's accuracy, else standard",
     )
+    g = p.add_argument_group("design", "compare the cut part with its design (docs/report.md)")
+    g.add_argument("--design", metavar="FILE",
+                   help="the part's design as .stl/.3mf/.ply (.step with vmach[step]), in the "
+                   "workpiece frame (the stock's and --export's): design_gouge / design_excess")
+    g.add_argument("--design-tolerance", metavar="+UP/-DOWN",
+                   help="band about the design's surface, mm (default +0.05/-0.02)")
+    g.add_argument("--design-offset", metavar="X,Y,Z", help="move the design by this, mm")
     p.add_argument("--max-blocks", type=int, default=tol.max_blocks)
     p.add_argument("--quiet", action="store_true",
                    help="no progress (else: bars on a terminal, one line a phase with its time on stderr)")
@@ -92,6 +99,9 @@ def run(args: argparse.Namespace) -> int:
         profile_stations=args.stations,
         accuracy=args.accuracy,
         dialect=args.dialect,
+        design=args.design,
+        design_tolerance=args.design_tolerance,
+        design_offset=args.design_offset,
         default_tool=args.default_tool,
         progress=progress,
         dialect_options=linuxcnc_options(args),
@@ -179,6 +189,11 @@ def summary(report, out: Path) -> str:
             f"{_figure(dev, '.4f')}, "
             f"band {p['tolerance_mm']}: {'PASS' if p['pass'] else 'FAIL'}"
         )
+    if d.get("design"):
+        g = d["design"]
+        lo, hi = g["tolerance_mm"]
+        lines.append(f"design {g['path']}: deviation -{g['max_gouge_mm']:.4f}…+{g['max_excess_mm']:.4f} mm, "
+                     f"band {lo:+g}/{hi:+g}: {g['gouges']} gouge(s), {g['excess']} excess region(s)")
     lines.append(f"report: {out / 'report.json'} ({out / 'report.html'})")
     return "\n".join(lines)
 

@@ -169,6 +169,10 @@ def make_pictures(report, out_dir: Path) -> dict[str, str]:
             nan_colour=NOT_MEASURED.tolist(),
         )
         images["part_deviation"] = "part_deviation.png"
+    if getattr(report, "design", None) is not None:
+        from vmach.checks.design_findings import design_picture
+
+        images.update(design_picture(report.design, out_dir))
     images.update(collision_pictures(report, out_dir))
     return images
 

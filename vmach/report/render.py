@@ -198,6 +198,22 @@ def _camera(plotter, view: str) -> None:
     plotter.reset_camera()
 
 
+def _finish_part(plotter, path: Path, title: str, vertices: np.ndarray, faces: np.ndarray) -> Path:
+    """Title, axis triad, scale bar over the drawn faces' vertices (n, 3) mm, the part seen
+    from above and aside, and the PNG written."""
+    if title:
+        plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
+    _triad(plotter)
+    box = _bounds(np.asarray(vertices, float)[np.unique(np.asarray(faces).ravel())]) if len(faces) else None
+    if box is not None:
+        _scale_bar(plotter, box)
+    plotter.camera_position = "xy"
+    plotter.camera.elevation = 35
+    plotter.camera.azimuth = 20
+    plotter.reset_camera()
+    return _save(plotter, path)
+
+
 def part_deviation_png(
     path: str | Path,
     vertices: np.ndarray,
@@ -255,17 +271,56 @@ def part_deviation_png(
             values.InsertNextValue(float(t))
         bar.SetCustomLabels(values)
         bar.SetUseCustomLabels(True)
-    if title:
-        plotter.add_text(title, font_size=12, color=FOREGROUND, position="upper_left")
-    _triad(plotter)
-    box = _bounds(np.asarray(vertices, float)[np.unique(np.asarray(faces).ravel())]) if len(faces) else None
-    if box is not None:
-        _scale_bar(plotter, box)
-    plotter.camera_position = "xy"
-    plotter.camera.elevation = 35
-    plotter.camera.azimuth = 20
-    plotter.reset_camera()
-    return _save(plotter, Path(path))
+    return _finish_part(plotter, Path(path), title, vertices, faces)
+
+
+#: colours of a part against its design: gouge, within the band, excess (RGB 0..255)
+GOUGE_RGB, BAND_RGB, EXCESS_RGB = (40, 80, 220), (190, 190, 190), (220, 40, 40)
+
+
+def design_colours(deviation: np.ndarray, band: tuple[float, float]) -> np.ndarray:
+    """RGB (n, 3) uint8 per vertex: grey within the band ``(lo, hi)`` mm, blue below it (a
+    gouge) and red above it (excess), paling to the band's grey at its edge and full at
+    three times the band's width beyond it."""
+    d = np.asarray(deviation, dtype=float)
+    lo, hi = band
+    width = max(hi - lo, 1e-6)
+    out = np.tile(np.array(BAND_RGB, dtype=float), (len(d), 1))
+    for mask, past, rgb in ((d < lo, lo - d, GOUGE_RGB), (d > hi, d - hi, EXCESS_RGB)):
+        t = np.clip(0.35 + 0.65 * past[mask] / (3 * width), 0.0, 1.0)[:, None]
+        out[mask] = (1 - t) * np.array(BAND_RGB) + t * np.array(rgb)
+    return np.clip(np.round(out), 0, 255).astype(np.uint8)
+
+
+def design_deviation_png(
+    path: str | Path,
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    deviation: np.ndarray,
+    band: tuple[float, float],
+    labels: Sequence[tuple[np.ndarray, str]] = (),
+    title: str = "",
+    size: tuple[int, int] = WINDOW,
+) -> Path:
+    """A part coloured by its signed distance to the design (:func:`design_colours`: gouge
+    blue, excess red, within the band grey), with labels at points.
+
+    vertices (n, 3) mm, faces (m, 3); deviation (n,) mm per vertex; band (lo, hi) mm;
+    labels: (point (3,) mm, text) each.
+    """
+    pv, plotter = _plotter(size)
+    mesh = pv.PolyData(np.asarray(vertices, float), _faces(faces))
+    mesh.point_data["colour"] = design_colours(deviation, band)
+    plotter.add_mesh(mesh, scalars="colour", rgb=True, smooth_shading=False, ambient=0.45, diffuse=0.6)
+    if labels:
+        plotter.add_point_labels(np.array([p for p, _ in labels], dtype=float), [t for _, t in labels],
+                                 font_size=14, text_color=FOREGROUND, point_color="black",
+                                 point_size=8, shape_opacity=0.6, always_visible=True)
+    lo, hi = band
+    legend = (f"blue: gouge (below {lo:+.3f} mm)   red: excess (above {hi:+.3f} mm)   "
+              "grey: within the band")
+    plotter.add_text(legend, font_size=9, color=FOREGROUND, position="lower_left")
+    return _finish_part(plotter, Path(path), title, vertices, faces)
 
 
 def toolpath_png(
