@@ -66,14 +66,16 @@ def client_for(cluster: Cluster):
                          "(or: pip install vmach)", kind="usage") from None
     if cluster.scheduler:
         try:
-            return Client(cluster.scheduler, timeout="20s"), None
+            client = Client(cluster.scheduler, timeout="20s")
+            client.wait_for_workers(1, timeout=120)
+            return client, None
         except (OSError, TimeoutError) as exc:
             raise InputError(f"--scheduler {cluster.scheduler}: cannot connect: {exc}",
                              kind="usage") from None
     n = cluster.workers or local_workers()
     local = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                          memory_limit=cluster.memory_limit or memory_per_worker(n),
-                         dashboard_address=None, silence_logs=logging.ERROR)
+                         dashboard_address=":0", silence_logs=logging.CRITICAL)
     return Client(local), local
 
 
