@@ -75,3 +75,16 @@ def test_bad_family_or_size_is_a_usage_error(family, sizes):
     with pytest.raises(InputError) as exc:
         family_cases(FIX / "POLY.MPF", family, sizes)
     assert exc.value.exit_code == 2
+
+
+@pytest.mark.parametrize("argv", [["batch", "{fix}/POLY.MPF", "--family", "P4C"],
+                                  ["batch", "{fix}/POLY.MPF", "{fix}/POLY50.MPF", "--family", "P3G"],
+                                  ["batch", "{fix}/POLY.MPF", "--workers", "0"],
+                                  ["demo", "polygon-shaft", "--size", "13"],
+                                  ["demo", "polygon-shaft", "--frames", "1"]])
+def test_commands_refuse_bad_usage_before_any_work(argv, tmp_path, capsys):
+    from vmach.cli import main
+
+    out = tmp_path / "out"
+    assert main([a.format(fix=FIX) for a in argv] + ["--out", str(out)]) == 2
+    assert "error[usage]" in capsys.readouterr().err and not out.exists()
