@@ -330,6 +330,19 @@ def chart_png(
     return _save(plotter, Path(path))
 
 
+def _bodies(pv, plotter, meshes, lines, line_width: int) -> None:
+    """Add line segments (``lines``: (segments (n, 2, 3) mm, colour)) and solids (``meshes``:
+    (vertices, faces, colour, opacity)), flat shaded; empty ones are left out."""
+    for seg, colour in lines:
+        if len(seg):
+            plotter.add_mesh(pv.line_segments_from_points(np.asarray(seg, float).reshape(-1, 3)),
+                             color=colour, line_width=line_width)
+    for v, f, colour, opacity in meshes:
+        if len(f):
+            plotter.add_mesh(pv.PolyData(np.asarray(v, float), _faces(f)), color=colour, opacity=opacity,
+                             smooth_shading=False)
+
+
 def scene_png(
     path: str | Path,
     meshes: Sequence[tuple[np.ndarray, np.ndarray, str, float]],
@@ -345,18 +358,7 @@ def scene_png(
     ``lines``: (segments (n, 2, 3) mm, colour) drawn thick; ``legend``: (label, colour) of
     what is which body. An axis triad and a scale bar."""
     pv, plotter = _plotter(size)
-    for seg, colour in lines:
-        if len(seg):
-            plotter.add_mesh(pv.line_segments_from_points(np.asarray(seg, float).reshape(-1, 3)),
-                             color=colour, line_width=4)
-    for v, f, colour, opacity in meshes:
-        if len(f):
-            plotter.add_mesh(
-                pv.PolyData(np.asarray(v, float), _faces(f)),
-                color=colour,
-                opacity=opacity,
-                smooth_shading=False,
-            )
+    _bodies(pv, plotter, meshes, lines, 4)
     centre, radius = focus
     if marker is not None:
         plotter.add_mesh(
@@ -401,14 +403,7 @@ def frame_rgb(
     from ``direction`` — the same box for every frame, so that the frames line up."""
     pv, plotter = _plotter(size)
     try:
-        for seg, colour in lines:
-            if len(seg):
-                plotter.add_mesh(pv.line_segments_from_points(np.asarray(seg, float).reshape(-1, 3)),
-                                 color=colour, line_width=2)
-        for v, f, colour, opacity in meshes:
-            if len(f):
-                plotter.add_mesh(pv.PolyData(np.asarray(v, float), _faces(f)), color=colour,
-                                 opacity=opacity, smooth_shading=False)
+        _bodies(pv, plotter, meshes, lines, 2)
         if text:
             plotter.add_text(text, font_size=11, color=FOREGROUND, position="upper_left")
         if caption:
