@@ -85,3 +85,13 @@ def test_animation_decodes_and_shows_material_going(report, tmp_path):
         return int((np.abs(img - top).sum(axis=2) <= 12).sum())
 
     assert top_pixels(last) < 0.9 * top_pixels(first)
+
+
+def test_the_view_holds_where_the_moves_cut():
+    from vmach.demo.animation import cut_view
+
+    blank = np.array([[-8.0, -8.0, -72.0], [8.0, 8.0, 0.0]])       # a Ø16 bar, 72 long
+    tips = np.array([[0.0, 0.0, -12.0], [0.0, 0.0, 8.0]])          # moves at its end only
+    view = cut_view(blank, tips, pad=0.0)
+    assert view[0, 2] == -20.0 and view[1, 2] == 0.0 and view[0, 0] == -8.0
+    assert cut_view(blank, np.zeros((0, 3)), pad=0.0)[0, 2] == -72.0

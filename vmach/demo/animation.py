@@ -67,6 +67,21 @@ def block_text(path: str, line: int, cache: dict) -> str:
     return lines[line - 1].strip() if 0 < line <= len(lines) else ""
 
 
+def cut_view(blank: np.ndarray, feed_tips: np.ndarray, pad: float = 0.35) -> np.ndarray:
+    """The box (2, 3) mm every frame looks at: the blank's bounds ``blank`` (2, 3), along Z
+    only where the feed moves go (a blank's far end, which no move touches, is left out; the
+    tips (n, 3) widened by the blank's width), grown by ``pad`` of its largest side."""
+    box = np.array(blank, float)
+    width = float(np.max(box[1, :2] - box[0, :2]))
+    if len(feed_tips):
+        lo = max(box[0, 2], float(feed_tips[:, 2].min()) - 0.5 * width)
+        hi = min(box[1, 2], float(feed_tips[:, 2].max()) + 0.5 * width)
+        if lo < hi:
+            box[:, 2] = lo, hi
+    span = float(np.max(box[1] - box[0]))
+    return np.stack([box[0] - pad * span, box[1] + pad * span])
+
+
 def cut_frames(report, frames: int = 48, size: tuple[int, int] = (800, 600)) -> Iterator[Frame]:
     """The frames of ``report``'s program (a :class:`vmach.verify.Report` whose stock was
     simulated: table, model, library, stock_spec, timing)."""
@@ -84,14 +99,12 @@ def cut_frames(report, frames: int = 48, size: tuple[int, int] = (800, 600)) -> 
                          "tool library in vmach.toml)", kind="usage")
     stock = Stock.from_spec(report.stock_spec, **ACCURACY[report.accuracy].stock)
     try:
-        bounds = np.asarray(stock.initial_bounds, float)
-        span = float(np.max(bounds[1] - bounds[0]))
-        view = np.stack([bounds[0] - 0.35 * span, bounds[1] + 0.35 * span])
         # the tip's path, a chord per feed row (rapids are left out: they would cross the view)
         tips0 = model.fk(table.columns(model.axes, model.home, table.start)).tip
         tips1 = model.fk(table.columns(model.axes, model.home, table.end)).tip
         seg = np.stack([tips0, tips1], axis=1)
         feed = np.asarray(table.kind) != TRAVERSE
+        view = cut_view(np.asarray(stock.initial_bounds, float), tips1[feed])
         marks = frame_rows(report.timing.row_seconds if report.timing is not None
                            else np.ones(len(table)), frames)
         cache: dict = {}

@@ -5,6 +5,7 @@ cut, X and Y over C1, the profile against its band, and a page ``demo.html`` wit
 from __future__ import annotations
 
 import html
+import json
 import math
 from pathlib import Path
 
@@ -61,6 +62,7 @@ def run_demo(out: Path, size: float, program: Path | None = None, frames: int = 
     ``out/<case>``, animate its cut and write ``out/demo.html``; returns what was written."""
     from vmach.batch.family import family_cases, materialise
     from vmach.demo.animation import cut_frames, write_animation
+    from vmach.report.html import write_report_html
     from vmach.report.pictures import make_pictures
     from vmach.verify import VerifyOptions, verify
 
@@ -72,6 +74,13 @@ def run_demo(out: Path, size: float, program: Path | None = None, frames: int = 
     make_dir(out)
     written: dict[str, str] = {}
     images = make_pictures(report, case_dir)
+    report.images = images
+    data = report.to_json()
+    with atomic_writer(case_dir / "report.json") as fh:
+        json.dump(data, fh, indent=2, ensure_ascii=False)
+        fh.write("\n")
+    write_report_html(report, data, case_dir)
+    written["report"] = f"{case.name}/report.html"
     if "x_of_c" in images:
         written["x_of_c"] = f"{case.name}/{images['x_of_c']}"
     if profile_band_png(report, case_dir / "profile_band.png"):
@@ -94,7 +103,8 @@ def _page(label: str, w: dict[str, str], family: bool) -> str:
     imgs = "".join(f"<figure><img src='{e(w[k])}' alt='{k}'><figcaption>{e(t)}</figcaption></figure>"
                    for k, t in (("gif", "the cut"), ("x_of_c", "X and Y over C1"),
                                 ("profile_band", "the profile against its band")) if k in w)
-    link = "<p><a href='index.html'>the whole family</a></p>" if family else ""
+    link = f"<p><a href='{e(w['report'])}'>the verify report</a>"
+    link += " · <a href='index.html'>the whole family</a></p>" if family else "</p>"
     return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>P3G polygon shaft</title>"
             "<style>body{font-family:sans-serif;margin:1.5em}img{max-width:100%}</style></head><body>"
             f"<h1>DIN 32711 P3G polygon shaft, {e(label)}</h1><p>{e(w['summary'])}</p>{link}{imgs}"
