@@ -36,6 +36,7 @@ def test_largest_size_takes_the_big_finishing_cutter():
     params, setup = p3g_parameters(100, 4.5)
     hand = r_values(FIX / "POLY100.MPF")
     assert params[64] == hand[64] == 16 and params[62] == hand[62] and params[59] == hand[59]
+    assert params[66] == hand[66] == 6 and params[68] == hand[68] == 6   # on a Ø110 blank, not Ø112
     assert setup["profile_z"] == "-55:-5"
 
 
@@ -48,8 +49,9 @@ def test_every_size_roughs_within_the_inserts():
         p, setup = p3g_parameters(d1, e1)
         blank = float(re.search(r"d=([\d.]+)", setup["stock"]).group(1))
         assert blank >= p[58] + 1
-        first = d1 / 2 - e1 + (p[66] - 1) + 0.15                 # the program's XS at SIN = 1
-        assert blank / 2 - first <= INSERT_DEPTH + 1e-9
+        for passes in (p[66], p[68]):                       # roughing, facing
+            first = d1 / 2 - e1 + (passes - 1) + 0.15           # the program's XS at SIN = 1
+            assert blank / 2 - first <= INSERT_DEPTH - 0.5 + 1e-9
         assert 3 * e1 < p[64] - 0.5
 
 

@@ -34,6 +34,8 @@ LENGTH_MM = (12.0, 40.0, 60.0)
 
 #: the cutters' sizes the polygon-shaft program relies on (fixtures/tools/polygon_shaft.toml)
 INSERT_DEPTH = 5.5      # mm, largest depth of cut of the D40 face mill's inserts
+DEPTH_MARGIN = 0.5      # mm: the first pass stays this far inside the inserts' depth (at P3G-75 a
+                        # first facing pass 5.5 mm deep ran the shank 0.5 mm³ into the corners)
 FIN_RADII = (12.5, 16.0)  # mm, GLOD D25 and GLOD D32: the smaller one whose face holds 3*e1
 
 
@@ -77,9 +79,9 @@ def p3g_parameters(d1: float, e1: float, fit: str = "g6") -> tuple[dict[int, flo
     Rules (mm): d2 = d1 + 2 e1; polygon length R62 interpolated over POLY14/50/100 (12, 40,
     60); blank: the even diameter at least 1 mm over d2, R62 + 60 long; finishing cutter
     radius R64 the smallest of 12.5 / 16 whose face holds the contact's 3 e1 swing (the
-    program's own TOO_SMALL test, 3 e1 < R64 - 0.5); roughing passes R66 so that the first
-    pass cuts at most the inserts' 5.5 mm into the blank (at least 3); facing passes R68 = 2
-    with three roughing passes, else as many as the roughing passes; flank offset R59 the
+    program's own TOO_SMALL test, 3 e1 < R64 - 0.5); roughing passes R66 (at least 3) and
+    facing passes R68 (at least 2) so that the first pass cuts at most 5 mm (the inserts' 5.5
+    less a 0.5 mm margin) into the blank at the profile's smallest radius; flank offset R59 the
     middle of the g6 band on d1 (a quarter of the sum of its diameter deviations); profile
     check from 2 mm (short polygons) or 5 mm above the shoulder to 4 mm (the 3 mm chamfer) or
     5 mm below the end.
@@ -93,8 +95,11 @@ def p3g_parameters(d1: float, e1: float, fit: str = "g6") -> tuple[dict[int, flo
     if r64 is None:
         raise InputError(f"P3G d1={d1:g}: 3*e1 = {3 * e1:g} mm exceeds every finishing cutter's face",
                          kind="family")
-    rough = max(3, math.ceil(blank_d / 2 - d1 / 2 + e1 - (INSERT_DEPTH - 0.85) - 1e-9))
-    facing = 2 if rough == 3 else rough
+    # passes that keep the first one's depth into the blank (at the profile's smallest radius
+    # d1/2 - e1, XS = that + passes - 1 + 0.15) within the inserts less DEPTH_MARGIN
+    needed = math.ceil(blank_d / 2 - d1 / 2 + e1 + 0.85 - (INSERT_DEPTH - DEPTH_MARGIN) - 1e-9)
+    rough = max(3, needed)
+    facing = max(2, needed)
     lim = limits(fit, d1)
     r59 = round((lim.lower + lim.upper) / 4, 6)
     params = {56: d1, 57: e1, 58: d2, 62: length, 63: 0.0, 64: r64, 65: 0.01, 66: float(rough),
