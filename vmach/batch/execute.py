@@ -128,7 +128,8 @@ def run_cases(cases: list[Case], out: Path, cluster: Cluster, options: dict,
         program = materialise(case, case_dir)
         todo.append((case, case_dir, str(program)))
     tally = Tally(len(cases), stream, len(records))
-    timings: dict = {"cases": {}, "resumed": len(records)}
+    timings: dict = {"cases": {name: rec.get("seconds") for name, rec in records.items()},
+                     "resumed": len(records)}
     if todo:
         t0 = time.perf_counter()
         client, local = client_for(cluster)
