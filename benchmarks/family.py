@@ -106,7 +106,7 @@ def main() -> int:
         print(f"per-case verify time on 1 worker: {min(times):.1f} .. {max(times):.1f} s, "
               f"sum {sum(times):.1f} s over {len(times)} cases")
         over = max(one["overhead_s"], 0.0) / max(len(times), 1)
-        for n in (1, 2, 4, 8, 16, len(times)):
+        for n in sorted({1, 2, 4, 8, 16, len(times)}):
             est = one["start_s"] + makespan(times, n) + over * len(times) / n
             print(f"  projected on {n:>2} workers (uncontended cores, 2 per worker): {est:.1f} s")
     s = simulated(a.sim_workers, a.sim_tasks, a.sim_seconds)
