@@ -27,6 +27,8 @@ COMMANDS: dict[str, str] = {
     "postcheck": "vmach.commands.postcheck",
     "profile": "vmach.commands.profile",
     "machines": "vmach.commands.machines",
+    "batch": "vmach.commands.batch",
+    "demo": "vmach.commands.demo",
 }
 
 #: the one-line help of each command, so that ``vmach --help`` and ``vmach --version`` import
@@ -41,6 +43,8 @@ HELPS: dict[str, str] = {
     "postcheck": "check post-processed G-code against the CAM cutter-location (APT CL) data",
     "profile": "print the sizes of a DIN 32711 P3G / DIN 32712 P4C profile (and draw it with --png)",
     "machines": "list the bundled machine models, one line each",
+    "batch": "verify many programs, or a parametric program over a size family (DIN 32711 P3G), on Dask",
+    "demo": "the instructor's demo: the polygon-shaft family verified, and an animation of one size's cut",
 }
 
 

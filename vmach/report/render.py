@@ -385,6 +385,19 @@ def chart_png(
     return _save(plotter, Path(path))
 
 
+def _bodies(pv, plotter, meshes, lines, line_width: int) -> None:
+    """Add line segments (``lines``: (segments (n, 2, 3) mm, colour)) and solids (``meshes``:
+    (vertices, faces, colour, opacity)), flat shaded; empty ones are left out."""
+    for seg, colour in lines:
+        if len(seg):
+            plotter.add_mesh(pv.line_segments_from_points(np.asarray(seg, float).reshape(-1, 3)),
+                             color=colour, line_width=line_width)
+    for v, f, colour, opacity in meshes:
+        if len(f):
+            plotter.add_mesh(pv.PolyData(np.asarray(v, float), _faces(f)), color=colour, opacity=opacity,
+                             smooth_shading=False)
+
+
 def scene_png(
     path: str | Path,
     meshes: Sequence[tuple[np.ndarray, np.ndarray, str, float]],
@@ -400,18 +413,7 @@ def scene_png(
     ``lines``: (segments (n, 2, 3) mm, colour) drawn thick; ``legend``: (label, colour) of
     what is which body. An axis triad and a scale bar."""
     pv, plotter = _plotter(size)
-    for seg, colour in lines:
-        if len(seg):
-            plotter.add_mesh(pv.line_segments_from_points(np.asarray(seg, float).reshape(-1, 3)),
-                             color=colour, line_width=4)
-    for v, f, colour, opacity in meshes:
-        if len(f):
-            plotter.add_mesh(
-                pv.PolyData(np.asarray(v, float), _faces(f)),
-                color=colour,
-                opacity=opacity,
-                smooth_shading=False,
-            )
+    _bodies(pv, plotter, meshes, lines, 4)
     centre, radius = focus
     if marker is not None:
         plotter.add_mesh(
@@ -439,3 +441,31 @@ def images_equal(a: str | Path, b: str | Path, threshold: float) -> tuple[bool, 
     ``threshold``."""
     err = float(_import().compare_images(str(a), str(b)))
     return err <= threshold, err
+
+
+def frame_rgb(
+    meshes: Sequence[tuple[np.ndarray, np.ndarray, str, float]],
+    bounds: np.ndarray,
+    text: str = "",
+    caption: str = "",
+    lines: Sequence[tuple[np.ndarray, str]] = (),
+    size: tuple[int, int] = (800, 600),
+    direction=(1.0, -1.0, 0.8),
+) -> np.ndarray:
+    """One frame of an animation as an image (h, w, 3) uint8: meshes (vertices (n, 3) mm,
+    faces (m, 3), colour, opacity), ``lines`` (segments (s, 2, 3) mm, colour), ``text`` in the
+    upper left, ``caption`` along the bottom; the camera looks at the box ``bounds`` (2, 3) mm
+    from ``direction`` — the same box for every frame, so that the frames line up."""
+    pv, plotter = _plotter(size)
+    try:
+        _bodies(pv, plotter, meshes, lines, 2)
+        if text:
+            plotter.add_text(text, font_size=11, color=FOREGROUND, position="upper_left")
+        if caption:
+            plotter.add_text(caption, font_size=10, color=FOREGROUND, position="lower_right")
+        _triad(plotter)
+        _frame(plotter, bounds, direction)
+        image = plotter.screenshot(None, return_img=True)
+    finally:
+        plotter.close()
+    return np.asarray(image, dtype=np.uint8)
