@@ -14,7 +14,7 @@ from pathlib import Path
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.flow import _SAFE_NAME
-from interpreters.rs274ngc.interp import Program, load_program
+from interpreters.rs274ngc.program import Program, load_program
 from vmach.canon import ControlSpec
 from vmach.errors import ProgramError
 from vmach.files import leads_outside

@@ -32,6 +32,7 @@ from interpreters.rs274ngc.context import RESTORE_ON_RETURN, VALID
 from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.expr import evaluate, to_integer
 from interpreters.rs274ngc.lexer import n_label
+from interpreters.rs274ngc.program import load_program
 from vmach.files import leads_outside
 
 _SAFE_NAME = re.compile(r"[a-z0-9_][a-z0-9_.\-]*")
@@ -322,8 +323,6 @@ class FlowMixin:
             key = str(path)
             prog = self.programs.get(key)
             if prog is None:
-                from interpreters.rs274ngc.interp import load_program
-
                 prog = self.programs[key] = load_program(shown)
             for i in range(len(prog.raw)):
                 ln = prog.line(i)

@@ -22,17 +22,16 @@ from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.execute import ExecuteMixin
 from interpreters.rs274ngc.fastpath import FastPathMixin
 from interpreters.rs274ngc.flow import FlowMixin
-from interpreters.rs274ngc.lexer import Line, n_label, parse_line
+from interpreters.rs274ngc.lexer import Line, n_label
 from interpreters.rs274ngc.mcodes import MCodeMixin
 from interpreters.rs274ngc.motion import MotionMixin
 from interpreters.rs274ngc.offsets import OffsetMixin
 from interpreters.rs274ngc.output import Output
+from interpreters.rs274ngc.program import Program, load_program
 from interpreters.rs274ngc.splines import SplineMixin
 from interpreters.rs274ngc.state import Params, Settings, ToolTable, rotate
 from interpreters.rs274ngc.threading import ThreadingMixin
 from vmach.canon import ControlSpec, RunOptions
-from vmach.errors import InputError
-from vmach.files import read_program_bytes
 from vmach.findings import Finding, error
 from vmach.source import SourceRef
 
@@ -40,62 +39,6 @@ END = 1
 #: errors after which even rs274 -n 0 cannot go on
 _FATAL = frozenset(("block_limit", "unreadable", "file_ended", "file_ended_percent",
                     "seeking_o_word", "percent_while_skipping"))
-MAX_LINE = 254  # LinuxCNC reads lines with fgets into LINELEN = 255 bytes
-
-
-class Program:
-    """The lines of one file, parsed on first use."""
-
-    __slots__ = ("path", "text", "raw", "lines", "refs", "last_newline", "flat")
-
-    def __init__(self, path: str, text: str):
-        self.path = path
-        self.text = text
-        self.flat: list[tuple] | None = None  # fastpath.flat_tokens(text), on first use
-        self.raw = text.split("\n")
-        self.last_newline = True
-        if self.raw and self.raw[-1] == "":
-            self.raw.pop()
-        elif self.raw:
-            self.last_newline = False
-        self.lines: list[Line | None] = [None] * len(self.raw)
-        self.refs: list[SourceRef | None] = [None] * len(self.raw)
-
-    def line(self, i: int) -> Line:
-        ln = self.lines[i]
-        if ln is None:
-            raw = self.raw[i]
-            # LinuxCNC reads lines with fgets(LINELEN = 255): 254 bytes with the newline fail
-            length = len(raw.encode("utf-8", "replace"))
-            if i < len(self.raw) - 1 or self.last_newline:
-                length += 1
-            if raw.endswith("\r"):
-                raw = raw[:-1]
-            if length >= MAX_LINE:
-                ln = Line(i + 1, raw)
-                ln.skip_error = NgcError("line_too_long")
-            else:
-                ln = parse_line(i + 1, raw)
-            self.lines[i] = ln
-        return ln
-
-    def ref(self, i: int, column: int = 1) -> SourceRef:
-        if column != 1:
-            return SourceRef(self.path, i + 1, column, self.raw[i].rstrip("\r"))
-        r = self.refs[i]
-        if r is None:
-            r = self.refs[i] = SourceRef(self.path, i + 1, 1, self.raw[i].rstrip("\r"))
-        return r
-
-
-def load_program(path: str) -> Program:
-    try:
-        data = read_program_bytes(path)        # held to vmach's size limits (ProgramError)
-    except InputError as exc:
-        raise NgcError("unreadable", path=path, reason=exc.message.removeprefix(f"{path}: ")) from None
-    return Program(path, data.decode("utf-8", errors="replace"))
-
-
 class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin, CycleMixin,
                   OffsetMixin, ContextMixin, ThreadingMixin, SplineMixin, MCodeMixin):
     """One run of one program."""

@@ -12,14 +12,14 @@ from interpreters.sinumerik.expr import Node
 from interpreters.sinumerik.lexer import IDENT, NUM, OP
 
 if TYPE_CHECKING:
-    from interpreters.sinumerik.parser import BlockParser
+    from interpreters.sinumerik.running import Reading
 
 
 def _num(value, col: int) -> Node:
     return Node("num", col, value)
 
 
-def value_list(p: BlockParser, room: int, name: str) -> tuple[Node | None, ...]:
+def value_list(p: Reading, room: int, name: str) -> tuple[Node | None, ...]:
     """``SET(a, , b)``, ``(a, b)`` or ``REP(v[, n])``: values for consecutive elements in
     row order (the last index fastest); None keeps an element as it is. ``room``: elements
     from the first one written to the array's end."""
@@ -53,7 +53,7 @@ def value_list(p: BlockParser, room: int, name: str) -> tuple[Node | None, ...]:
         p.fail("index_range", f"{len(values)} values for {room} element(s) of {name}", col)
     return tuple(values)
 
-def _rep_counted(p: BlockParser) -> bool:
+def _rep_counted(p: Reading) -> bool:
     """Whether the REP(...) ahead gives its count (a ',' at its top level)."""
     depth = 0
     for tok in p.toks[p.pos + 1:]:
@@ -67,7 +67,7 @@ def _rep_counted(p: BlockParser) -> bool:
             return True
     return False
 
-def fill(p: BlockParser, t, target: b.Target) -> list[b.Item]:
+def fill(p: Reading, t, target: b.Target) -> list[b.Item]:
     """``A[i, j]=SET(...)`` / ``A[i]=REP(...)``: one assignment per value, from element
     ``[i, j]`` on in row order (constant indices; a variable index on a 1-D array)."""
     d = p.variables[target.name]

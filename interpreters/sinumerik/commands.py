@@ -39,33 +39,32 @@ from vmach.findings import Finding, info
 from vmach.source import SourceRef
 
 if TYPE_CHECKING:
-    from interpreters.sinumerik.interpreter import Interpreter
-    from interpreters.sinumerik.parser import BlockParser
+    from interpreters.sinumerik.running import Reading, Running
 
 
 # -- reading -------------------------------------------------------------------------------
-def read(p: BlockParser, t) -> b.Item:
+def read(p: Reading, t) -> b.Item:
     """The command ``t`` (its name token, already consumed) with what follows it."""
     c = COMMANDS[t.text]
     return _READERS[c.kind](p, t)
 
 
-def _keyword(p: BlockParser, t) -> b.Item:
+def _keyword(p: Reading, t) -> b.Item:
     if p.is_op("(") or p.is_op("="):
         p.fail("syntax", f"{t.text} takes no arguments or value")
     return b.Command(t.col, t.text, "keyword")
 
 
-def _procedure(p: BlockParser, t) -> b.Item:
+def _procedure(p: Reading, t) -> b.Item:
     return b.Command(t.col, t.text, COMMANDS[t.text].kind, p.arguments(loose=True) if p.is_op("(") else ())
 
 
-def _value(p: BlockParser, t) -> b.Item:
+def _value(p: Reading, t) -> b.Item:
     p.expect_op("=")
     return b.Command(t.col, t.text, "value", (p.expr(),))
 
 
-def _axis_value(p: BlockParser, t) -> b.Item:
+def _axis_value(p: Reading, t) -> b.Item:
     p.expect_op("[")
     at = p.tok
     if at.kind != IDENT or not p.g.is_axis(at.text):
@@ -80,24 +79,24 @@ def _axis_value(p: BlockParser, t) -> b.Item:
     return b.Command(t.col, t.text, kind, (p.expr(),), at.text)
 
 
-def _alarm(p: BlockParser, t) -> b.Item:
+def _alarm(p: Reading, t) -> b.Item:
     p.expect_op("(")
     node = p.expr()
     p.expect_op(")")
     return b.Command(t.col, t.text, "alarm", (node,))
 
 
-def _cycle(p: BlockParser, t) -> b.Item:
+def _cycle(p: Reading, t) -> b.Item:
     p.fail("unsupported", f"{t.text} is a Siemens standard cycle that vmach does not simulate", t.col)
     raise AssertionError
 
 
-def _unsupported(p: BlockParser, t) -> b.Item:
+def _unsupported(p: Reading, t) -> b.Item:
     p.fail("unsupported", f"{t.text}: {COMMANDS[t.text].effect}", t.col)
     raise AssertionError
 
 
-def spindle_position(p: BlockParser, t) -> b.Word:
+def spindle_position(p: Reading, t) -> b.Word:
     """``SPOS[n]=value`` / ``SPOSA[n]=value`` (the ``[`` is next)."""
     p.pos += 1
     n = p.tok
@@ -110,7 +109,7 @@ def spindle_position(p: BlockParser, t) -> b.Word:
     return b.Word(t.col, f"{t.text}{n.value}", "spos", node, n.value, mode)
 
 
-def axis_address(p: BlockParser, t) -> b.Word:
+def axis_address(p: Reading, t) -> b.Word:
     """``AX[axis]=value``: the axis word written with the axis in brackets; an AXIS variable
     there (an axis chosen at run time) is not simulated."""
     p.pos += 1
@@ -127,7 +126,7 @@ def axis_address(p: BlockParser, t) -> b.Word:
     raise AssertionError
 
 
-def program_call(p: BlockParser, t) -> b.Call:
+def program_call(p: Reading, t) -> b.Call:
     """``CALL "NAME"``, ``EXTCALL "NAME"``, ``PCALL NAME(args)`` or ``PCALL /_N_…_SPF(args)``
     (the statement's token consumed)."""
     how = t.text
@@ -146,7 +145,7 @@ def program_call(p: BlockParser, t) -> b.Call:
     return b.Call(t.col, program_name(path, how), args, how=how)
 
 
-def bracketed(p: BlockParser, t) -> b.Word:
+def bracketed(p: Reading, t) -> b.Word:
     """``AX[axis]=value`` or ``SPOS[n]=value`` / ``SPOSA[n]=value`` (the ``[`` is next)."""
     return axis_address(p, t) if t.text == "AX" else spindle_position(p, t)
 
@@ -165,7 +164,7 @@ _READERS: dict[str, Callable] = {
 }
 
 
-def is_command_start(p: BlockParser, name: str) -> bool:
+def is_command_start(p: Reading, name: str) -> bool:
     """Whether ``name`` here starts a command of the table (a program file of a cycle's name
     beside the program is called instead)."""
     c = COMMANDS.get(name)
@@ -198,7 +197,7 @@ class Recorder:
                 for name, (src, count, effect, kind) in self.seen.items()]
 
 
-def code_step(it: Interpreter, code, col: int, src: SourceRef) -> Callable:
+def code_step(it: Running, code, col: int, src: SourceRef) -> Callable:
     """The step of an accepted G-group code (BRISK, COMPCAD, FNORM …): recorded."""
     effect = f"{code.group_name.replace('_', ' ')} (G group {code.group})"
     name = code.name
@@ -207,7 +206,7 @@ def code_step(it: Interpreter, code, col: int, src: SourceRef) -> Callable:
     return lambda v: note(name, effect, where)
 
 
-def step(it: Interpreter, item: b.Command, src: SourceRef, positions: list) -> Callable:
+def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Callable:
     """The step of one command: evaluates what it holds, records or acts. ``positions``
     collects the block's positioning moves (POS/POSA), run after its path motion."""
     fs = [compile_expr(a, it.env) if a is not None else None for a in item.args]
@@ -240,7 +239,7 @@ def step(it: Interpreter, item: b.Command, src: SourceRef, positions: list) -> C
     return record
 
 
-def run_positions(it: Interpreter, positions: list, src: SourceRef) -> None:
+def run_positions(it: Running, positions: list, src: SourceRef) -> None:
     """POS/POSA of one block: each axis traverses to its value after the path motion."""
     machine = it.machine
     motion = machine.motion

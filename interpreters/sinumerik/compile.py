@@ -20,12 +20,12 @@ from vmach.errors import ProgramError
 from vmach.source import SourceRef
 
 if TYPE_CHECKING:
-    from interpreters.sinumerik.interpreter import Interpreter
+    from interpreters.sinumerik.running import Running
 
 END_LEVEL, CALL, STOP, SECTION = -1, -2, -3, -4
 
 
-def compile_block(it: Interpreter, program: b.Program, blk: b.Block) -> Callable[[], int]:
+def compile_block(it: Running, program: b.Program, blk: b.Block) -> Callable[[], int]:
     i = blk.index
     nxt = i + 1
     kind = blk.kind
@@ -186,7 +186,7 @@ def _getter(it, target: b.Target):
     return compile_expr(node, it.env)
 
 
-def _nc(it: Interpreter, program: b.Program, blk: b.Block, src: SourceRef) -> Callable[[], int]:
+def _nc(it: Running, program: b.Program, blk: b.Block, src: SourceRef) -> Callable[[], int]:
     env = it.env
     nxt = blk.index + 1
     cond = compile_expr(blk.cond, env) if blk.cond is not None else None
@@ -352,7 +352,7 @@ def _item_kind(item) -> str:
     return "other"
 
 
-def _step(it: Interpreter, item) -> tuple[Callable[[Values], None], int]:
+def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
     env = it.env
     col = item.col
     if isinstance(item, b.Assign):

@@ -21,7 +21,7 @@ from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.expr import EvalError, compile_expr, element
 
 if TYPE_CHECKING:
-    from interpreters.sinumerik.interpreter import Interpreter
+    from interpreters.sinumerik.running import Running
 
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -81,7 +81,7 @@ def _key(name: str) -> str:
     return str(name).strip().upper()
 
 
-def step(it: Interpreter, item: b.Command, src: SourceRef) -> Callable:
+def step(it: Running, item: b.Command, src: SourceRef) -> Callable:
     """The step of a file command: acts on the run's sandbox, sets its result variables."""
     want = OPERATIONS[item.name]
     where = src.at(item.col)
@@ -119,7 +119,7 @@ def step(it: Interpreter, item: b.Command, src: SourceRef) -> Callable:
     return run
 
 
-def _setter(it: Interpreter, node, name: str, where: SourceRef) -> Callable:
+def _setter(it: Running, node, name: str, where: SourceRef) -> Callable:
     if node.op == "var":
         return it.setter(b.Target(name=node.value, index=node.args))
     if node.op == "r" and isinstance(node.value, int):
