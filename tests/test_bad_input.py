@@ -140,6 +140,25 @@ def test_the_cli_says_the_limit_with_its_place(tmp_path, capsys):
     assert f"{p}:2:1: error[resource_limit]" in capsys.readouterr().err
 
 
+# -- 6: a limit bites as fast in verify as in run ----------------------------------------------------
+@pytest.mark.parametrize("name, text", [("P.MPF", "LBL: G0 X1\nG0 X0\nGOTOB LBL\nM30\n"),
+                                        ("p.ngc", "o100 while [1]\nG0 X1\nG0 X0\no100 endwhile\nM2\n")])
+def test_verify_checks_nothing_after_a_run_stopped_at_a_limit(tmp_path, capsys, name, text):
+    """A runaway program stops at vmach's limit in the interpreter; verify then builds no move
+    table from the moves made, and says of every stage that it was not checked (so the limit
+    bites in verify as fast as in run)."""
+    p = _prog(tmp_path, text, name)
+    out = tmp_path / "o"
+    assert main(["verify", p, "--machine", "s5d", "--stock", "box:x=40,y=40,z=10", "--default-tool",
+                 "flat:d=10", "--max-blocks", "2000", "--no-images", "--out", str(out)]) == 1
+    capsys.readouterr()
+    report = json.loads((out / "report.json").read_text())
+    assert [f["kind"] for f in report["findings"] if f["severity"] == "error"] == ["block_limit"]
+    assert report["partial"] and report["program"]["moves"] == 0
+    assert set(report["skipped"]) == {"stock", "fixture_collisions", "cycle_time"}
+    assert all("block_limit" in reason for reason in report["skipped"].values())
+
+
 # -- 7: outputs that are not regular files are written through -------------------------------------
 def test_run_output_onto_a_fifo_writes_through_it(tmp_path):
     p = _prog(tmp_path, "G0 X1\nM30\n")

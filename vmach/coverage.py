@@ -36,10 +36,35 @@ def skip(report, stage: str, reason: str, source: SourceRef | None = None) -> No
                                    source, None, {"stage": stage, "reason": reason}))
 
 
-def say_skipped(report, spec: str | None, library, profile: bool) -> None:
+#: errors that stop a runaway program at one of vmach's limits (an endless loop or recursion, a
+#: program that makes more than vmach holds): verify checks nothing after the interpreter then
+RUNAWAY = frozenset({"block_limit", "call_depth", "resource_limit"})
+
+
+def runaway(result) -> Finding | None:
+    """The error that stopped ``result`` (a RunResult) at one of vmach's limits, or None."""
+    if result is None or result.completed:
+        return None
+    for f in reversed(result.findings):
+        if f.severity == "error":
+            return f if f.kind in RUNAWAY else None
+    return None
+
+
+def say_skipped(report, spec: str | None, library, profile: bool, stopped: Finding | None = None,
+                design: bool = False) -> None:
     """Each stage of ``report`` (vmach.verify.Report) that cannot run, with its reason: no stock
     ``spec``, no tool ``library``, an unfinished run; ``profile``: a profile check was asked
-    for."""
+    for; ``stopped``: the run stopped at a limit (:func:`runaway`), so no stage after the
+    interpreter runs (a limit bites as fast in ``verify`` as in ``run``); ``design``: a design
+    comparison was asked for."""
+    if stopped is not None:
+        reason = (f"the run stopped at vmach's limit ({stopped.kind} at {where(stopped.source)}): "
+                  "nothing after the interpreter is checked")
+        asked = {"profile": profile, "design": design}
+        for stage in STAGES:
+            if asked.get(stage, True):
+                skip(report, stage, reason, stopped.source)
     no_lib = "no tool library: give --tools (or tools = in vmach.toml), or --default-tool"
     if not spec:
         skip(report, "stock", "no stock: give --stock (or stock = in vmach.toml, or the program's "

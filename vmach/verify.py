@@ -277,13 +277,15 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         report.result = result
         report.findings.extend(coverage.merged(static, result.findings))
         report.stopped_at = coverage.stop_place(result)
+        stopped = coverage.runaway(result)               # at a limit: nothing after this is checked
+        commands = [] if stopped is not None else result.commands
 
     with clock("move_table"):
-        table = build(result.commands, control)
+        table = build(commands, control)
         report.table = table
 
     with clock("checks"):
-        report.findings.extend(unknown_tools(result.commands, library))
+        report.findings.extend(unknown_tools(commands, library))
         report.findings.extend(zero_feeds(table))
         report.findings.extend(_limit_findings(model, table))
 
@@ -298,22 +300,22 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
     if report.stock_spec is None:
         from vmach.blank import stock_from_program
 
-        declared = stock_from_program(result.commands)
+        declared = stock_from_program(commands)
         if declared is not None:
             report.stock_spec, notes = declared
             report.findings.extend(Finding("workpiece", "info", n) for n in notes)
     spec = report.stock_spec
     if spec and blank is None:
         blank = _blank(spec, report.findings)
-    simulated = bool(spec) and library is not None     # the stock is cut
+    simulated = bool(spec) and library is not None and stopped is None    # the stock is cut
     with clock("checks"):
         from vmach.checks.envelope import in_envelope
 
         report.findings.extend(coverage.toolless_feeds(table, simulated))
         report.findings.extend(spindle_off_cuts(table, model.tool_spindle, None if blank is None else partial(
             in_envelope, table, model, library, _bounds(blank))))
-    coverage.say_skipped(report, spec, library, profile_plan is not None)
-    if (options.export or options.design) and not simulated:
+    coverage.say_skipped(report, spec, library, profile_plan is not None, stopped, bool(options.design))
+    if (options.export or options.design) and not simulated and stopped is None:
         which = "export" if options.export else "design"
         raise InputError(f"--{which} needs a simulated stock: give {'--tools' if spec else '--stock'} "
                          "(or name it in vmach.toml)", kind="usage")
