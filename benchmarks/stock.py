@@ -53,7 +53,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 from vmach.tol import ACCURACY  # noqa: E402
 
 REFERENCE = ROOT.parent / "shared" / "reference" / "polygon_shaft_thesis.mpf"
-TOOLS = ROOT / "fixtures" / "tools" / "polygon_shaft.toml"
+TOOLS = ROOT / "fixtures" / "polygon_shaft" / "tools.toml"
 BEFORE = {"trim": False, "spread": 1, "chord": 0.002}   # the pipeline before the speed work
 NAIVE_CHORD = 0.002
 PRESET: dict = {}   # --accuracy: the program cases' Stock(chord=..., cusp=...) (vmach.tol.ACCURACY)

@@ -18,7 +18,7 @@ HYBRID5 = MODELS / "hybrid5.toml"
 
 POLYGON_DIR = FIXTURES / "polygon_shaft"
 POLY50 = POLYGON_DIR / "POLY50.MPF"
-POLYGON_TOOLS = FIXTURES / "tools" / "polygon_shaft.toml"
+POLYGON_TOOLS = FIXTURES / "polygon_shaft" / "tools.toml"
 
 REFERENCE = ROOT.parent / "shared" / "reference" / "polygon_shaft_thesis.mpf"
 

@@ -48,7 +48,7 @@ def test_a_model_dialect_that_is_not_a_name_is_an_error_at_its_key(tmp_path, cap
 
 # -- 3: a profile range beside the part ------------------------------------------------------------
 GROOVE = ROOT / "fixtures" / "turnmill" / "GROOVE.MPF"
-POLYGON_TOOLS = ROOT / "fixtures" / "tools" / "polygon_shaft.toml"
+POLYGON_TOOLS = ROOT / "fixtures" / "polygon_shaft" / "tools.toml"
 
 
 def test_a_profile_range_beside_the_part_is_an_error_finding_and_the_summary_holds(tmp_path, capsys):
@@ -65,7 +65,8 @@ def test_a_profile_range_beside_the_part_is_an_error_finding_and_the_summary_hol
 
 
 def test_a_profile_range_from_the_setup_file_is_found_at_its_key(tmp_path, capsys):
-    (tmp_path / "vmach.toml").write_text(f'machine = "turnmill"\ntools = "{POLYGON_TOOLS}"\n'
+    (tmp_path / "tools.toml").write_bytes(POLYGON_TOOLS.read_bytes())
+    (tmp_path / "vmach.toml").write_text('machine = "turnmill"\ntools = "tools.toml"\n'
                                          'stock = "cylinder:d=40,l=60"\nprofile = "P3G:14"\n'
                                          'profile_z = "50:60"\n')
     p = _prog(tmp_path, GROOVE.read_text(encoding="utf-8"), "GROOVE.MPF")

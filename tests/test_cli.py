@@ -6,6 +6,7 @@ import json
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from catalog import POLY50, ROOT
@@ -151,7 +152,7 @@ def test_option_values_that_start_with_a_minus_sign_are_values(tmp_path, capsys)
     assert (args.tip, args.axis) == ("-1,2,3", "-0,0,1")
     # end to end: the range reaches its check (an unknown fit class then stops the run early)
     p = prog(tmp_path, 'T="GLOD D40"\nM30\n')
-    tools = str(ROOT / "fixtures/tools/polygon_shaft.toml")
+    tools = str(ROOT / "fixtures/polygon_shaft/tools.toml")
     code = main(["verify", p, "--machine", "turnmill", "--tools", tools,
                  "--stock", "cylinder:d=60,l=50", "--profile", "P3G:50", "--profile-z", "-35:-5",
                  "--fit", "zz9", "--out", str(tmp_path / "o")])
@@ -171,7 +172,7 @@ def test_a_bad_profile_check_stops_verify_before_the_simulation(tmp_path, capsys
 
     monkeypatch.setattr(simulate_module, "simulate", boom)
     p = prog(tmp_path, 'T="GLOD D40"\nM30\n')
-    base = ["verify", p, "--machine", "turnmill", "--tools", str(ROOT / "fixtures/tools/polygon_shaft.toml"),
+    base = ["verify", p, "--machine", "turnmill", "--tools", str(ROOT / "fixtures/polygon_shaft/tools.toml"),
             "--stock", "cylinder:d=60,l=50", "--profile", "P3G:50", "--export", str(tmp_path / "part.stl"),
             "--out", str(tmp_path / "o"), "--no-images"]
     for extra, kind in ((["--profile-z=-35:-5", "--fit", "zz9"], "fit"),
@@ -225,7 +226,7 @@ def test_ik_on_a_model_without_axes_and_export_without_a_stock_are_usage_errors(
     assert main(["verify", p, "--machine", "turnmill", "--no-images", "--out", str(tmp_path / "o"),
                  "--export", str(first)]) == 2
     assert "error[usage]" in capsys.readouterr().err
-    tools = str(ROOT / "fixtures/tools/polygon_shaft.toml")
+    tools = str(ROOT / "fixtures/polygon_shaft/tools.toml")
     assert main(["verify", p, "--machine", "turnmill", "--tools", tools, "--stock", "cylinder:d=60,l=50",
                  "--no-images", "--out", str(tmp_path / "o"), "--export", str(first),
                  "--export", str(tmp_path / "second.xyz")]) == 2
@@ -266,7 +267,7 @@ def test_an_export_may_go_into_the_out_directory_verify_makes(tmp_path, capsys):
     import trimesh
 
     p = prog(tmp_path, 'T="GLOD D40"\nM30\n')
-    tools = str(ROOT / "fixtures/tools/polygon_shaft.toml")
+    tools = str(ROOT / "fixtures/polygon_shaft/tools.toml")
     base = ["verify", p, "--machine", "turnmill", "--tools", tools, "--stock", "cylinder:d=60,l=50",
             "--no-images", "--out", str(tmp_path / "o")]
     part = tmp_path / "o" / "deeper" / "part.ply"
@@ -330,7 +331,7 @@ def test_run_and_verify_compensate_with_the_tool_librarys_radius(tmp_path, capsy
     setup file's): GLOD D40's D1 is 20 mm. Without a library G41 is error[no_tool_radius]."""
     import json
 
-    tools = str(ROOT / "fixtures/tools/polygon_shaft.toml")
+    tools = str(ROOT / "fixtures/polygon_shaft/tools.toml")
     p = prog(tmp_path, 'T="GLOD D40" D1\nG17 G0 X-50 Y-50 Z5\nG1 F500 G41 X0 Y0\nY40\nG40 X-50 Y60\nM30\n')
     assert main(["run", p, "--format", "json", "--tools", tools]) == 0
     feeds = [json.loads(x) for x in capsys.readouterr().out.splitlines()]
@@ -340,7 +341,8 @@ def test_run_and_verify_compensate_with_the_tool_librarys_radius(tmp_path, capsy
     assert main(["run", p]) == 1
     err = capsys.readouterr().err
     assert "P.MPF:3:" in err and "error[no_tool_radius]" in err and "--tools" in err
-    (tmp_path / "vmach.toml").write_text(f'tools = "{tools}"\n')
+    (tmp_path / "tools.toml").write_bytes(Path(tools).read_bytes())   # a library beside the program
+    (tmp_path / "vmach.toml").write_text('tools = "tools.toml"\n')
     assert main(["run", p]) == 0
     capsys.readouterr()
     assert main(["verify", p, "--machine", "turnmill", "--out", str(tmp_path / "o"), "--no-images"]) in (0, 1)

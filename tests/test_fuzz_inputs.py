@@ -184,7 +184,7 @@ def _keys(path: Path) -> list[tuple[Path, tuple]]:
 
 
 MODEL_KEYS = [x for m in sorted(MODELS.glob("*.toml")) for x in _keys(m)]
-TOOL_KEYS = [x for t in (FIXTURES / "tools" / "polygon_shaft.toml", FIXTURES / "milling" / "tools.toml")
+TOOL_KEYS = [x for t in (FIXTURES / "polygon_shaft" / "tools.toml", FIXTURES / "milling" / "tools.toml")
              for x in _keys(t)]
 SETUP_KEYS = [x for s in sorted(FIXTURES.glob("*/vmach.toml")) for x in _keys(s)]
 

@@ -1,9 +1,10 @@
 """Nothing is read from outside the program's directory (issue #30): every way a name could lead
 out of it — ``..``, an absolute name, a link to a file or a directory outside, a chain of links,
 a dangling link, a link loop — is refused in ``check`` and in ``run``, in both dialects, and the
-file outside is never read (its moves never appear). Names in a setup file are the user's
-configuration (README, "Limits"): they may name a shared library anywhere, but only a regular
-file is read, and anything else is an error at its key."""
+file outside is never read (its moves never appear). What a setup file names must lie beside
+it too (or be a bundled model by name): a vmach.toml comes with the program; files elsewhere are
+the user's to give on the command line. Only a regular file is read, and anything else is an
+error at its key."""
 
 from __future__ import annotations
 
@@ -151,18 +152,39 @@ def test_setup_file_references_read_only_regular_files(tmp_path, capsys, key, ta
     assert f"{setup}:2:1: error[" in err and "Traceback" not in err
 
 
-def test_setup_file_references_outside_are_configuration_and_are_read(tmp_path, capsys):
-    """A shared tool library or machine model beside the jobs (``../tools/…``, an absolute name
-    or a link to one) is the user's to name: it is read (README, the limits paragraph)."""
+@pytest.mark.parametrize("key", ["tools", "machine"])
+@pytest.mark.parametrize("how", ["up", "absolute", "link", "link_to_dir"])
+def test_setup_file_references_outside_are_refused_and_never_read(tmp_path, capsys, key, how):
+    """A vmach.toml comes with the program, so what it names must lie beside it: a tool library
+    or model reached by ``..``, an absolute name, a link to a file or through a linked
+    directory is ``file_outside`` at its key, exit 2, in check, run and verify — and never read
+    (the file outside is not TOML: reading it would be another error)."""
+    out = _outside(tmp_path)
+    (out / "lib.toml").write_text("this is [ not toml\n")
+    job = tmp_path / "job"
+    job.mkdir()
+    os.symlink(out / "lib.toml", job / "lib.toml")
+    os.symlink(out, job / "linked")
+    names = {"up": "../elsewhere/lib.toml", "absolute": str(out / "lib.toml"), "link": "lib.toml",
+             "link_to_dir": "linked/lib.toml"}
+    prog, setup = _setup_naming(tmp_path, key, names[how])
+    for command in ("check", "run", "verify"):
+        assert main([command, str(prog)]) == 2
+        err = capsys.readouterr().err
+        assert f"{setup}:2:1: error[file_outside]" in err and "Traceback" not in err
+
+
+def test_setup_file_references_beside_it_and_bundled_models_are_read(tmp_path, capsys):
+    """A library in the program's directory (or below it) and a bundled model by name are read."""
     tools = Path(__file__).resolve().parents[1] / "fixtures" / "milling" / "tools.toml"
-    shared = tmp_path / "shared"
-    shared.mkdir()
-    (shared / "tools.toml").write_bytes(tools.read_bytes())
-    for name in ("../shared/tools.toml", str(shared / "tools.toml")):
-        prog, _ = _setup_naming(tmp_path, "tools", name)
-        prog.write_text('T="EM10"\nD1\nG0 X1\nM30\n')
-        assert main(["run", str(prog)]) == 0
-        capsys.readouterr()
+    job = tmp_path / "job"
+    (job / "lib").mkdir(parents=True)
+    (job / "lib" / "tools.toml").write_bytes(tools.read_bytes())
+    prog, setup = _setup_naming(tmp_path, "tools", "lib/tools.toml")
+    setup.write_text(setup.read_text() + 'machine = "s5d"\n')
+    prog.write_text('T="EM10"\nD1\nG0 X1\nM30\n')
+    assert main(["run", str(prog)]) == 0
+    capsys.readouterr()
 
 
 def test_links_that_stay_inside_are_followed(tmp_path):

@@ -2,8 +2,8 @@
 
 Command-line options win; otherwise a ``vmach.toml`` beside the program says what it is for::
 
-    machine = "turnmill"                 # a model name in models/ or a path (relative to this file)
-    tools = "../tools/polygon_shaft.toml"
+    machine = "turnmill"                 # a model name in models/ or a file beside this one
+    tools = "tools.toml"
     stock = "cylinder:d=60,l=100"
     profile = "P3G:50"
     profile_z = "-35:-5"
@@ -18,6 +18,11 @@ Command-line options win; otherwise a ``vmach.toml`` beside the program says wha
 
     [programs.POLY100]                   # overrides for one program (by file stem)
     stock = "cylinder:d=120,l=150"
+
+The files it names (``machine``, ``tools``) lie beside it — in its directory or below, with every
+link followed — or are bundled models named by name: nothing is read from outside the program's
+directory on the word of a file that came with the program. Files elsewhere are given on the
+command line (``--machine``, ``--tools``), the user's own choice.
 """
 
 from __future__ import annotations
@@ -31,7 +36,7 @@ from typing import Any
 from vmach.bundled import MODELS_DIR  # the bundled models (checkout or wheel)
 from vmach.canon import DEFAULT_CONTROL, ControlSpec
 from vmach.errors import InputError, ModelError
-from vmach.files import file_problem, leads_outside
+from vmach.files import contained, file_problem, leads_outside
 from vmach.source import SourceRef
 
 SETUP_NAME = "vmach.toml"
@@ -53,6 +58,16 @@ class Setup:
     source: Path | None = None  # the vmach.toml read, if any
     #: where each text setting was read (key -> its line in the vmach.toml), for findings about it
     places: dict[str, SourceRef] = field(default_factory=dict)
+
+
+#: why a file a vmach.toml names outside its directory is refused
+OUTSIDE = ("leads outside the program's directory (never read): a vmach.toml names files beside "
+           "it, or a bundled model by name; give others on the command line (--machine, --tools)")
+
+
+def _bundled(model: Path) -> bool:
+    """A model file of vmach's own (``models/``), which a vmach.toml may name from anywhere."""
+    return contained(model, MODELS_DIR) and model.resolve().parent == MODELS_DIR.resolve()
 
 
 def resolve_model(spec: str | Path, base: Path | None = None) -> Path:
@@ -170,8 +185,14 @@ def read_setup(program: str | Path) -> Setup:
     except InputError as exc:
         raise InputError(f"{SETUP_NAME}: {exc.message}", kind=exc.kind,
                          source=places.find(where["machine"])) from None
+    if model is not None and not _bundled(model) and not contained(model, base):
+        raise InputError(f"{SETUP_NAME}: machine = {machine!r} {OUTSIDE}", kind="file_outside",
+                         source=places.find(where["machine"]))
     if tools and (problem := file_problem(base / tools)) is not None:
         raise bad(where["tools"], f"= {tools!r}: {problem}")
+    if tools and not contained(base / tools, base):
+        raise InputError(f"{SETUP_NAME}: tools = {tools!r} {OUTSIDE}", kind="file_outside",
+                         source=places.find(where["tools"]))
     return Setup(
         machine=model,
         tools=(base / tools) if tools else None,

@@ -29,7 +29,7 @@ def turnmill(x, y, z, c_deg):
 
 @pytest.fixture(scope="session")
 def library():
-    return load_tools(ROOT / "fixtures/tools/polygon_shaft.toml")
+    return load_tools(ROOT / "fixtures/polygon_shaft/tools.toml")
 
 
 @pytest.fixture(scope="session")

@@ -42,7 +42,7 @@ def part(tmp_path_factory, request):
     assert result.completed, [f.render() for f in result.findings if f.is_error]
     table = build(result.commands, model.control)
     stock = Stock.from_spec("cylinder:d=60,l=100", chord=0.01)
-    sim = simulate(table, model, load_tools(ROOT / "fixtures/tools/polygon_shaft.toml"), stock)
+    sim = simulate(table, model, load_tools(ROOT / "fixtures/polygon_shaft/tools.toml"), stock)
     stock.export(directory / "part.stl")
     return stock, sim, directory
 

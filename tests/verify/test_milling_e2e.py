@@ -207,12 +207,10 @@ def test_the_turn_mill_groove_fixture_verifies_clean_and_cuts_its_groove(tmp_pat
     import json
     import shutil
 
-    from catalog import FIXTURES, POLYGON_TOOLS
+    from catalog import FIXTURES
 
     job = tmp_path / "turnmill"
     shutil.copytree(FIXTURES / "turnmill", job)
-    setup = (job / "vmach.toml").read_text().replace("../tools/polygon_shaft.toml", str(POLYGON_TOOLS))
-    (job / "vmach.toml").write_text(setup)
     part = tmp_path / "part.stl"
     assert main(["verify", str(job / "GROOVE.MPF"), "--export", str(part), "--out", str(tmp_path / "o"),
                  "--no-images", "--quiet"]) == 0

@@ -25,8 +25,9 @@ def verified(tmp_path_factory):
     d = tmp_path_factory.mktemp("ref")
     prog = split_reference(d, reference)
     prog.write_text(prog.read_text().replace("R65=0.01", "R65=0.05"))
+    (d / "tools.toml").write_bytes(POLYGON_TOOLS.read_bytes())
     (d / "vmach.toml").write_text(
-        f'machine = "turnmill"\ntools = "{POLYGON_TOOLS}"\nstock = "cylinder:d=60,l=100"\n'
+        'machine = "turnmill"\ntools = "tools.toml"\nstock = "cylinder:d=60,l=100"\n'
         'profile = "P3G:50"\nprofile_z = "-35:-5"\n'
     )
     out = d / "out"

@@ -25,11 +25,8 @@ def variant(tmp_path, old: str | None = None, new: str | None = None, tools: str
         assert old in text
         text = text.replace(old, new)
         (d / "FLATS.MPF").write_text(text)
-    setup = (d / "vmach.toml").read_text().replace("../tools/polygon_shaft.toml", str(POLYGON_TOOLS))
     if tools is not None:
-        (d / "tools.toml").write_text(tools)
-        setup = setup.replace(str(POLYGON_TOOLS), "tools.toml")
-    (d / "vmach.toml").write_text(setup)
+        (d / "tools.toml").write_text(tools)       # the fixture's own library, replaced
     lines = text.splitlines()
 
     def line_of(prefix: str) -> int:

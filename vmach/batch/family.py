@@ -32,7 +32,7 @@ FAMILIES = ("P3G",)
 LENGTH_D1 = (14.0, 50.0, 100.0)
 LENGTH_MM = (12.0, 40.0, 60.0)
 
-#: the cutters' sizes the polygon-shaft program relies on (fixtures/tools/polygon_shaft.toml)
+#: the cutters' sizes the polygon-shaft program relies on (fixtures/polygon_shaft/tools.toml)
 INSERT_DEPTH = 5.5      # mm, largest depth of cut of the D40 face mill's inserts
 DEPTH_MARGIN = 0.5      # mm: the first pass stays this far inside the inserts' depth (at P3G-75 a
                         # first facing pass 5.5 mm deep ran the shank 0.5 mm³ into the corners)

@@ -1,6 +1,6 @@
 """Cutting tools: profiles, libraries (``--tools FILE.toml``), revolved solids.
 
-    lib = load_tools("fixtures/tools/polygon_shaft.toml")
+    lib = load_tools("fixtures/polygon_shaft/tools.toml")
     tool = lib.lookup("GLOD D40")          # or lib.lookup(1) / lib.lookup("1")
     solid = tool_solid(tool)               # convex pieces in the tool frame, cached
 """
