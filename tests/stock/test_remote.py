@@ -248,3 +248,18 @@ def test_while_a_worker_runs_this_processs_blas_keeps_to_one_thread():
         finally:
             a.close()
             b.close()
+
+
+def test_the_worker_ends_quietly_when_its_caller_has_gone():
+    """A caller that goes away (Ctrl-C, a batch case stopped) leaves the worker's answer with
+    nowhere to go: the worker's loop returns instead of raising BrokenPipeError (a traceback
+    on the user's terminal)."""
+    from multiprocessing import Pipe
+
+    from vmach.stock.remote import serve
+
+    caller, worker = Pipe()
+    caller.send(("batch", [], 0))           # asks for an answer …
+    caller.send(("snap", 1))
+    caller.close()                          # … and goes away before reading it
+    serve(worker)                           # returns; raised BrokenPipeError before

@@ -226,7 +226,8 @@ def serve(conn: Connection) -> None:
             except Exception as exc:    # noqa: BLE001 - reported to the caller, not printed
                 error = ("stock_worker", f"the stock's worker process failed: {exc!r}")
             seconds += time.perf_counter() - t0
-            conn.send(("done", done))
+            if not _send(conn, ("done", done)):
+                return
         elif msg[0] in ("snap", "local"):
             part, vol = solid, volume
             if msg[0] == "local" and error is None:
@@ -234,7 +235,18 @@ def serve(conn: Connection) -> None:
                 vol = engine.volume(part)
             arrays = engine.to_arrays(part) if error is None else (None, None)
             box = engine.box_of(part) if error is None else None
-            conn.send(("snap", msg[1], *arrays, box, vol, seconds, error))
+            if not _send(conn, ("snap", msg[1], *arrays, box, vol, seconds, error)):
+                return
+
+
+def _send(conn: Connection, msg: tuple) -> bool:
+    """Send ``msg`` to the caller; False when the caller has gone away (its pipe is closed: a
+    Ctrl-C, a batch case stopped), which ends the worker quietly, without a traceback."""
+    try:
+        conn.send(msg)
+    except (OSError, EOFError):         # BrokenPipeError and ConnectionResetError among them
+        return False
+    return True
 
 
 if __name__ == "__main__":
