@@ -147,3 +147,29 @@ def test_a_design_moved_off_the_part_says_so(design):
     assert report["design"]["offset_mm"] == [0.0, 0.0, 0.3]
     placement = next(f for f in report["findings"] if f["kind"] == "design_placement")
     assert placement["beyond_mm"] == pytest.approx(0.3, abs=1e-3)
+
+
+def test_report_html_colours_the_part_by_its_distance_to_the_design(design):
+    """report.html's 3-D view shows the comparison (#38): the part coloured by its signed
+    distance to the design against the design's band, the gouge in the gouge colour."""
+    import base64
+    import re
+
+    root, _ = design
+    rc, report, _ = _check(design, "deep_html", "--no-images", "--design-tolerance", "+0.05/-0.02",
+                           replace=("N50 G1 Z-6 F300", "N50 G1 Z-6.2 F300"))
+    assert rc == 1
+    page = (root / "out_deep_html" / "report.html").read_text()
+    scene = json.loads(re.search(r"<script type='application/json' id='scene-data'>(.*?)</script>",
+                                 page, re.S).group(1).replace("<\\/", "</"))
+    assert scene["band"]["what"] == "design" and "deviation from the design" in page
+    assert (scene["band"]["lo_um"], scene["band"]["hi_um"]) == pytest.approx((-20.0, 50.0))
+    rgb = np.frombuffer(base64.b64decode(scene["part"]["colours"]), np.uint8).reshape(-1, 3)
+    assert len(rgb) == report["design"]["vertices"]
+    arrays = np.load(root / "out_deep_html" / report["design"]["deviation_file"])
+    dev = arrays["deviation"]
+    assert len(rgb) == len(dev)
+    blue = rgb[:, 2].astype(int) > rgb[:, 0].astype(int) + 40       # the gouge colour
+    grey = np.ptp(rgb.astype(int), axis=1) < 8                        # within the band
+    assert blue.sum() > 10 and np.array_equal(blue, dev < -0.02)
+    assert np.array_equal(grey, (dev >= -0.02) & (dev <= 0.05))

@@ -168,7 +168,9 @@ def _viewer(scene: dict) -> str:
     band = scene.get("band")
     legend = ["<span style='background:#d62728'></span>rapid <span style='background:#2ca02c'></span>feed"]
     if band:
+        against = "the design" if band.get("what") == "design" else "the profile"
         legend.append(
+            f"deviation from {against}: "
             f"<span style='background:#9e9e9e'></span>in band {band['lo_um']:+.1f}…{band['hi_um']:+.1f} µm "
             "<span style='background:#b30418'></span>material outside "
             "<span style='background:#05308f'></span>gouged "

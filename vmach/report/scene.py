@@ -137,6 +137,22 @@ def part_deviation(report) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, t
     return v, f, dev, (float(lo), float(hi))
 
 
+def _coloured_part(report) -> tuple[np.ndarray, np.ndarray, np.ndarray | None,
+                                    tuple[float, float] | None, str | None]:
+    """The part the 3-D view shows and what colours it: the comparison with the design when
+    ``--design`` ran (signed distance to the design over the whole part, its band), else the
+    profile check's radial deviation (:func:`part_deviation`), else nothing. The last item
+    says which: ``"design"``, ``"profile"`` or None."""
+    outcome = getattr(report, "design", None)
+    comparison = getattr(outcome, "comparison", None)
+    if comparison is not None:
+        band = comparison.band
+        return (comparison.vertices, comparison.faces, comparison.deviation,
+                (float(band.lo), float(band.hi)), "design")
+    v, f, dev, band = part_deviation(report)
+    return v, f, dev, band, (None if dev is None else "profile")
+
+
 def _b64(a: np.ndarray, dtype) -> str:
     return base64.b64encode(np.ascontiguousarray(a, dtype=dtype).tobytes()).decode("ascii")
 
@@ -154,13 +170,14 @@ def viewer_scene(report) -> dict | None:
     scene: dict = {"places": [], "band": None}
     pts = []
     if report.part is not None:
-        v, f, dev, band = part_deviation(report)
+        v, f, dev, band, what = _coloured_part(report)
         if dev is None:
             rgb = np.tile(IN_BAND, (len(v), 1))
         else:
             span = band_span(*band, dev)
             rgb = deviation_rgb(dev, *band, span)
-            scene["band"] = {"lo_um": band[0] * 1000, "hi_um": band[1] * 1000, "span_um": span * 1000}
+            scene["band"] = {"lo_um": band[0] * 1000, "hi_um": band[1] * 1000, "span_um": span * 1000,
+                             "what": what}
         scene["part"] = {
             "positions": _b64(v, "<f4"),
             "colours": _b64(np.round(rgb * 255), "u1"),
