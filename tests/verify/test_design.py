@@ -173,3 +173,7 @@ def test_report_html_colours_the_part_by_its_distance_to_the_design(design):
     grey = np.ptp(rgb.astype(int), axis=1) < 8                        # within the band
     assert blue.sum() > 10 and np.array_equal(blue, dev < -0.02)
     assert np.array_equal(grey, (dev >= -0.02) & (dev <= 0.05))
+    # the region's label stands at its deepest point
+    gouge = next(f for f in report["findings"] if f["kind"] == "design_gouge")
+    assert [p["at"] for p in scene["places"] if p["kind"] == "design_gouge"] == [
+        pytest.approx(gouge["deepest_mm"], abs=1e-4)]

@@ -46,11 +46,12 @@ class Place:
 
 def finding_places(report) -> list[Place]:
     """The place of every finding that has one: the contact point a collision check gives
-    (``at_mm``), else the tool tip at the end of the finding's move. Findings in the order of
-    ``report.json``."""
+    (``at_mm``) or the deepest point of a design region (``deepest_mm``), else the tool tip at
+    the end of the finding's move. Findings in the order of ``report.json``."""
     table, model = report.table, report.model
     found = sorted(report.findings, key=sort_key)
-    rows = [i for i, f in enumerate(found) if f.move_index is not None or "at_mm" in f.data]
+    rows = [i for i, f in enumerate(found)
+            if f.move_index is not None or "at_mm" in f.data or "deepest_mm" in f.data]
     if not rows or table is None or model is None or len(table) == 0:
         return []
     moves = [int(found[i].move_index) for i in rows if found[i].move_index is not None]
@@ -61,7 +62,7 @@ def finding_places(report) -> list[Place]:
     out = []
     for i in rows:
         f: Finding = found[i]
-        at = f.data.get("at_mm")
+        at = f.data.get("at_mm", f.data.get("deepest_mm"))
         if at is None:
             at = tips.get(int(f.move_index))
         at = np.asarray(at, float).reshape(-1)
