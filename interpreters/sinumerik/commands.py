@@ -119,11 +119,35 @@ def axis_address(p: Reading, t) -> b.Word:
         p.expect_op("=")
         mode, node = p.moded_value()
         return b.Word(t.col, at.text, "axis", node, None, mode)
-    if at.kind == IDENT and at.text in p.variables:
-        p.fail("unsupported", f"AX[{at.text}]: an axis chosen at run time (an AXIS variable) is not "
-               "simulated", at.col)
+    if at.kind == IDENT and at.text in p.variables and p.is_op("]", 1):
+        p.pos += 2
+        p.expect_op("=")
+        mode, node = p.moded_value()
+        return b.Word(t.col, at.text, "axis_var", node, None, mode)
     p.fail("unknown_axis", f"AX[...] needs an axis of this machine, found {p.describe(at)}", at.col)
     raise AssertionError
+
+
+def runtime_axis(it: Running, word: b.Word) -> Callable[[], b.Word]:
+    """The axis word of ``AX[variable]=value`` (``word.name`` the AXIS variable): a closure
+    giving the word of the axis the variable names when the block runs; an axis the machine
+    does not have is ``unknown_axis``."""
+    from interpreters.sinumerik.expr import Node
+
+    get = compile_expr(Node("var", word.col, word.name), it.env)
+    control = it.control
+    axes = {a.name for a in control.axes} | set(control.geometry)
+
+    def resolve() -> b.Word:
+        name = get()
+        if name.__class__ is not str or not name:
+            raise EvalError("type_error", f"AX[{word.name}]: {word.name} holds no axis ({name!r})")
+        name = name.strip().upper()
+        if name not in axes and (control.strict_axes or not re.fullmatch(r"[ABCUVWXYZ]\d*", name)):
+            raise EvalError("unknown_axis", f"AX[{word.name}]: {name} is not an axis of this machine")
+        return b.Word(word.col, name, "axis", word.expr, None, word.mode)
+
+    return resolve
 
 
 def program_call(p: Reading, t) -> b.Call:

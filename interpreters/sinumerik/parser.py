@@ -675,6 +675,9 @@ class BlockParser:
                 self.pos += 1
                 rpl = self.expr()
                 continue
+            if wt.text == "AX" and self.is_op("["):     # ATRANS AX[X]=10, AX[variable]=...
+                words.append(commands.axis_address(self, wt))
+                continue
             if wt.text in ("AP", "RP") and t.text in POLES and self.is_op("="):
                 self.pos += 1
                 words.append(b.Word(wt.col, wt.text, "polar", self.expr()))

@@ -1,0 +1,114 @@
+"""Constructs of real 840D programs (CAM posts, machine builders' warm-up and test programs,
+measuring macros), in programs written for these tests after the Programming Manual's
+descriptions: string and axis functions, axes chosen at run time, array fills from a
+computed index."""
+
+from __future__ import annotations
+
+from catalog import MODELS
+from nc import check, error_of, moves, ok, run
+
+from vmach.canon import Message
+from vmach.machine.control import load_control
+
+MILL3 = load_control(MODELS / "mill3.toml")
+MILL5AC = load_control(MODELS / "mill5ac.toml")
+TURNMILL = load_control(MODELS / "turnmill.toml")
+
+
+def messages(result) -> list[str]:
+    return [c.text for c in result.commands if isinstance(c, Message)]
+
+
+def test_string_functions_as_the_manual_describes(tmp_path):
+    # Job planning, "String operations": positions count from 0, -1 when not found
+    text = """DEF STRING[40] S
+DEF INT N
+S="WERKZEUG_12"
+N=STRLEN(S)
+MSG("L"<<N<<" I"<<INDEX(S,"E")<<" R"<<RINDEX(S,"E")<<" M"<<MINDEX(S,"ZG")<<" T"<<MATCH(S,"_1"))
+MSG(SUBSTR(S,9,2)<<"/"<<SUBSTR(S,2)<<"/"<<TOLOWER("AbC")<<"/"<<TOUPPER("xY"))
+MSG("N"<<NUMBER("-12.5")*2<<" "<<ISNUMBER("1.5EX3")<<ISNUMBER("12A")<<" "<<INDEX(S,"Q"))
+M30
+"""
+    r = ok(tmp_path, text, MILL3)
+    assert messages(r) == ["L11 I1 R5 M4 T8", "12/RKZEUG_12/abc/XY", "N-25 10 -1"]
+    assert check(tmp_path, text, MILL3) == []
+
+
+def test_sprint_formats_values(tmp_path):
+    text = """DEF REAL L=12.5
+MSG(SPRINT("T%D L=%.3F %S %B%B %X %%", 7, L, "OK", 1, 0, 255))
+MSG(SPRINT("%F", 2))
+M30
+"""
+    r = ok(tmp_path, text, MILL3)
+    assert messages(r) == ["T7 L=12.500 OK TRUEFALSE FF %", "2.000000"]
+
+
+def test_number_of_a_non_number_stops_at_its_line(tmp_path):
+    text = "DEF REAL V\nG0 X1\nV=NUMBER(\"1,5\")\nM30\n"
+    e = error_of(run(tmp_path, text, MILL3))
+    assert (e.kind, e.line) == ("type_error", 3)
+
+
+def test_axis_functions(tmp_path):
+    # AXNAME makes an axis of a string, AXSTRING a string of an axis; AXTOSPI/SPI convert
+    # between a spindle's axis and its number; ISAXIS tells whether geometry axis n exists
+    text = """DEF AXIS _A
+DEF STRING[8] T
+_A=AXNAME("y")
+T=AXSTRING(_A)
+MSG(T<<AXSTRING(Z)<<" "<<AXTOSPI(C1)<<" "<<SPI(1)<<" "<<ISAXIS(1)<<ISAXIS(4))
+MSG(ISVAR("_A")<<ISVAR("_NONE")<<ISVAR("R7")<<ISVAR("$P_TOOLNO"))
+M30
+"""
+    r = ok(tmp_path, text, TURNMILL)
+    assert messages(r) == ["YZ 1 C1 10", "1011"]
+    assert check(tmp_path, text, TURNMILL) == []
+    e = error_of(run(tmp_path, "R1=AXTOSPI(X)\nM30\n", TURNMILL))
+    assert (e.kind, e.line) == ("unknown_axis", 1)
+
+
+def test_axis_chosen_at_run_time(tmp_path):
+    # a measuring macro gets the axis to probe as an AXIS parameter and moves it with AX[...]
+    text = """DEF AXIS _AX=X
+G17 G90 G54 G0 X0 Y0 Z50
+AX[_AX]=10
+_AX=AXNAME("Y")
+G1 AX[_AX]=IC(5) F500
+ATRANS AX[_AX]=100
+G0 Y0
+TRANS
+M30
+"""
+    r = ok(tmp_path, text, MILL3)
+    ends = [(m.axes["X"], m.axes["Y"]) for m in moves(r)]
+    assert ends == [(0.0, 0.0), (10.0, 0.0), (10.0, 5.0), (10.0, 100.0)]
+    assert check(tmp_path, text, MILL3) == []
+
+
+def test_axis_variable_naming_no_axis_of_the_machine(tmp_path):
+    text = "DEF AXIS _AX\n_AX=AXNAME(\"A\")\nG0 X1\nAX[_AX]=10\nM30\n"
+    assert check(tmp_path, text, MILL3) == []
+    e = error_of(run(tmp_path, text, MILL3))
+    assert (e.kind, e.line) == ("unknown_axis", 4)
+    ok(tmp_path, text, MILL5AC)
+
+
+def test_set_and_rep_from_a_computed_index_fill_in_row_order(tmp_path):
+    text = """DEF REAL A[3,4]
+DEF INT I=1, J=2
+A[I,J]=SET(1,2,,4)
+A[0,I]=REP(9,2)
+MSG(A[1,2]<<A[1,3]<<A[2,0]<<A[2,1]<<" "<<A[0,1]<<A[0,2]<<A[0,3])
+I=2
+A[I,J]=SET(1,2,3)
+M30
+"""
+    r = run(tmp_path, text, MILL3)
+    assert messages(r) == ["1204 990"]
+    e = error_of(r)
+    assert (e.kind, e.line) == ("index_range", 7)
+    found = check(tmp_path, "DEF REAL A[3]\nDEF INT I\nA[I]=REP(1)\nM30\n", MILL3)
+    assert [(f.kind, f.line) for f in found] == [("unsupported", 3)]
