@@ -112,3 +112,26 @@ M30
     assert (e.kind, e.line) == ("index_range", 7)
     found = check(tmp_path, "DEF REAL A[3]\nDEF INT I\nA[I]=REP(1)\nM30\n", MILL3)
     assert [(f.kind, f.line) for f in found] == [("unsupported", 3)]
+
+
+def test_a_label_defined_twice_is_a_warning_and_jumps_search_their_direction(tmp_path):
+    # two loops reuse the label of the same name: GOTOB finds the one just above it
+    text = """R1=0
+R2=0
+MARK: R1=R1+1
+IF R1<3 GOTOB MARK
+GOTOF WEITER
+WEITER: G0 X=R1
+MARK: R2=R2+1
+IF R2<2 GOTOB MARK
+GOTOF WEITER
+G0 X99
+WEITER: G0 Y=R2
+M30
+"""
+    found = check(tmp_path, text, MILL3)
+    assert sorted((f.kind, f.severity, f.line) for f in found) == [
+        ("duplicate_label", "warning", 7), ("duplicate_label", "warning", 11),
+        ("unreachable_block", "warning", 10)]
+    r = ok(tmp_path, text, MILL3)
+    assert [(m.axes["X"], m.axes["Y"]) for m in moves(r)] == [(3.0, 0.0), (3.0, 2.0)]
