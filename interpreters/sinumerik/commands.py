@@ -27,8 +27,8 @@ import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from interpreters.sinumerik import approach, sandbox
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import sandbox
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, compile_expr
@@ -61,7 +61,7 @@ def _procedure(p: Reading, t) -> b.Item:
 
 def _value(p: Reading, t) -> b.Item:
     p.expect_op("=")
-    return b.Command(t.col, t.text, "value", (p.expr(),))
+    return b.Command(t.col, t.text, COMMANDS[t.text].kind, (p.expr(),))
 
 
 def _axis_value(p: Reading, t) -> b.Item:
@@ -77,6 +77,21 @@ def _axis_value(p: Reading, t) -> b.Item:
         mode, node = p.moded_value()
         return b.Command(t.col, t.text, kind, (node,), at.text, mode)
     return b.Command(t.col, t.text, kind, (p.expr(),), at.text)
+
+
+def _axis_mark(p: Reading, t) -> b.Item:
+    """``FINEA[X]`` or ``FINEA=X``: an axis named, no value."""
+    close = p.is_op("[")
+    if not (close or p.is_op("=")):
+        p.fail("syntax", f"{t.text} needs an axis: {t.text}[X] or {t.text}=X")
+    p.pos += 1
+    at = p.tok
+    if at.kind != IDENT or not p.g.is_axis(at.text):
+        p.fail("unknown_axis", f"{t.text} needs an axis of this machine, found {p.describe(at)}")
+    p.pos += 1
+    if close:
+        p.expect_op("]")
+    return b.Command(t.col, t.text, "axis_mark", (), at.text)
 
 
 def _alarm(p: Reading, t) -> b.Item:
@@ -185,6 +200,10 @@ _READERS: dict[str, Callable] = {
     "file": _procedure,
     "cycle": _cycle,
     "unsupported": _unsupported,
+    "approach": approach.read_approach,
+    "limits": approach.read_limits,
+    "axis_mark": _axis_mark,
+    "zero_value": _value,
 }
 
 
@@ -242,6 +261,10 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
         return lambda v: positions.append((word, _number(f(), name)))  # type: ignore[misc]
     if kind == "file":
         return sandbox.step(it, item, src)
+    if kind == "approach":
+        return approach.step(it, item, src)
+    if kind == "zero_value":
+        return _zero_value(it, item, fs[0], src)
     if kind == "alarm":
         f = fs[0]
 
@@ -261,6 +284,18 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
         note(name, effect, src.at(item.col))
 
     return record
+
+
+def _zero_value(it: Running, item: b.Command, f: Callable, src: SourceRef) -> Callable:
+    note, effect = it.recorder.note, COMMANDS[item.name].effect
+
+    def zero(v):
+        value = _number(f(), item.name)
+        if value != 0:
+            raise EvalError("unsupported", f"{item.name}={value:g}: {effect}; vmach simulates only 0")
+        note(item.name, effect, src.at(item.col))
+
+    return zero
 
 
 def run_positions(it: Running, positions: list, src: SourceRef) -> None:

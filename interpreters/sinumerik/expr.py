@@ -109,6 +109,7 @@ FUNCTIONS: dict[str, tuple[int, int]] = {
     "MAXVAL": (2, 2),
     "BOUND": (3, 3),
     "ISFILE": (1, 1),
+    "QU": (1, 1),
 }
 FUNCTIONS.update({name: (lo, hi) for name, (lo, hi, _) in strfuncs.PURE.items()})
 FUNCTIONS.update(strfuncs.STATEFUL)
@@ -284,7 +285,8 @@ class ExprParser:
                 after = self.toks[self.pos + 1] if self.pos + 1 < len(self.toks) else it
                 if (it.kind == IDENT and after.kind == OP and after.text in ("]", ",")
                         and not self.is_variable(it.text) and it.text not in CONSTANTS
-                        and not (it.text[0] == "R" and it.text[1:].isdigit())):
+                        and not (it.text[0] == "R" and it.text[1:].isdigit())
+                        and it.text[0] != "$"):     # a system variable is read: $TC_DP6[$P_TOOLNO, 1]
                     self.pos += 1
                     idx.append(Node("str", it.col, it.text))
                 else:
@@ -517,6 +519,7 @@ FUNC_IMPL: dict[str, Callable[..., Any]] = {
     "BOUND": _bound,
     "LN": _ln,
     "EXP": _exp,
+    "QU": lambda x: x,      # M=QU(8): a quick auxiliary-function output, the value itself
 }
 FUNC_IMPL.update({name: impl for name, (_, _, impl) in strfuncs.PURE.items()})
 

@@ -5,6 +5,8 @@ computed index."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from catalog import MODELS
 from nc import check, error_of, moves, ok, run
 
@@ -135,3 +137,53 @@ M30
         ("unreachable_block", "warning", 10)]
     r = ok(tmp_path, text, MILL3)
     assert [(m.axes["X"], m.axes["Y"]) for m in moves(r)] == [(3.0, 0.0), (3.0, 2.0)]
+
+
+def test_fixed_point_and_reference_point_approach(tmp_path):
+    # machine-builder programs retract with G75 (the tool-change point) and G74; the machine
+    # axes may be written by their machine-axis names (Z1); the values written are ignored
+    control = replace(MILL3, machine_data={**MILL3.machine_data,
+                                           "$MA_FIX_POINT_POS": {(0, "Z"): -5.0, (1, "Z"): -50.0,
+                                                                 (1, "X"): 200.0}})
+    text = """G54 G90 G1 X10 Y10 Z-100 F1000
+G75 FP=2 X1=0 Z1=0
+G75 Z1=0
+G74 X1=0 Y1=0
+G1 Z-90
+M30
+"""
+    r = ok(tmp_path, text, control)
+    ends = [(m.source.line, m.axes["X"], m.axes["Y"], m.axes["Z"], m.kind) for m in moves(r)]
+    assert ends == [(1, 10.0, 10.0, -100.0, "feed"), (2, 200.0, 10.0, -50.0, "traverse"),
+                    (3, 200.0, 10.0, -5.0, "traverse"), (4, 0.0, 0.0, -5.0, "traverse"),
+                    (5, 0.0, 0.0, -90.0, "feed")]     # G75/G74 leave G1 modal
+    assert [f.data["name"] for f in r.findings if f.kind == "machine_data_default"] == ["$MA_REFP_SET_POS"]
+    assert check(tmp_path, text, control) == []
+    e = error_of(run(tmp_path, "G75 FP=7 Z1=0\nM30\n", control))
+    assert (e.kind, e.line) == ("invalid_value", 1)
+    assert [(f.kind, f.line) for f in check(tmp_path, "G75 Q1=0\nM30\n", control)] == [("unknown_axis", 1)]
+
+
+def test_working_area_limits_fine_stops_and_quick_outputs_are_accepted(tmp_path):
+    text = """G25 X-10 Y-10 Z-300
+G26 X=500 Y=300 Z=0
+WALIMON
+G0 X0 Y0 Z10 FINEA=X
+FINEA[Y] COARSEA[Z]
+M=QU(8) H=QU(1)
+G41 OFFN=0 G1 X10 F100
+G40 X20
+TOFFOF()
+M30
+"""
+    r = ok(tmp_path, text, MILL3)
+    assert check(tmp_path, text, MILL3) == []
+    noted = {f.data["command"] for f in r.findings if f.kind == "no_effect"}
+    assert {"G25", "G26", "FINEA", "COARSEA", "OFFN", "TOFFOF"} <= noted
+    e = error_of(run(tmp_path, "G0 X0\nOFFN=0.5\nM30\n", MILL3))
+    assert (e.kind, e.line) == ("unsupported", 2)
+
+
+def test_system_variable_as_index_of_another(tmp_path):
+    text = "T1 D1\nM6\nR2=$TC_DP6[$P_TOOLNO,$P_TOOL]\nMSG(\"R\"<<R2)\nM30\n"
+    assert messages(ok(tmp_path, text, MILL3)) == ["R0"]
