@@ -12,7 +12,9 @@ maker, ``_N_MGUD_DEF``, ``_N_UGUD_DEF`` for the user, ``_N_GUD4_DEF`` .. ``_N_GU
 
 vmach reads such files from the program's own directory only (never a link leading out of it),
 named as the control names them or as a PC copy does: ``_N_UGUD_DEF``, ``UGUD.DEF``,
-``_N_UGUD_DEF.DEF`` (any case). Their variables exist in every program of the directory with
+``_N_UGUD_DEF.DEF`` (any case), and the files the machine model (``[control] definitions``) or
+the setup file (``definitions`` in ``vmach.toml``) name, relative to the program's directory
+and inside it, read after those. Their variables exist in every program of the directory with
 their types, initial values and arrays; NCK and CHAN variables are both global (vmach simulates
 one channel). Access attributes (``APR``/``APW`` ...), limits (``LLI``/``ULI``) and ``PHU`` are read
 and have no effect. A definition vmach does not simulate (``DEF NCK FRAME``) is a warning
@@ -33,7 +35,7 @@ from interpreters.sinumerik.lexer import IDENT, split_comment, tokenize
 from interpreters.sinumerik.parser import BlockParser, Grammar
 from vmach.canon import ControlSpec
 from vmach.errors import ProgramError
-from vmach.files import decode_text, read_bytes
+from vmach.files import contained, decode_text, read_bytes
 from vmach.findings import Finding, error, warning
 from vmach.source import SourceRef
 
@@ -73,19 +75,40 @@ def files(directory: Path) -> list[Path]:
     return [p for _, _, p in sorted(found)]
 
 
+def named(directory: Path, control: ControlSpec) -> tuple[list[Path], list[str]]:
+    """The GUD files ``control.definitions`` names (the model's, the setup file's) that are in
+    ``directory`` or below it, and the names that lead outside it (never read). A name that
+    is not there is left out: a model names its files for every program of the machine."""
+    inside, outside = [], []
+    for name in control.definitions:
+        p = directory / name
+        if not os.path.lexists(p):
+            continue
+        if not contained(p, directory):
+            outside.append(name)
+        elif p.is_file():
+            inside.append(p)
+    return inside, outside
+
+
 def load(program: Path, display: str, control: ControlSpec) -> Definitions:
     """The global variables defined in the GUD files beside ``program`` (cached per file
     state); findings name the files as ``display`` (the program as the user named it) does."""
     directory = program.resolve().parent
     paths = files(directory)
+    extra, outside = named(directory, control)
+    paths += [p for p in extra if all(p.resolve() != q.resolve() for q in paths)]
+    refused = tuple(error("file_outside", f"the GUD file {n} the machine or setup names leads outside the "
+                          "program's directory (never read)", SourceRef(display, 1)) for n in outside)
     if not paths:
-        return EMPTY
+        return Definitions({}, refused, {}) if refused else EMPTY
     key = (str(directory), os.path.dirname(display),
            tuple((str(p), p.stat().st_mtime_ns, p.stat().st_size) for p in paths),
-           tuple(sorted(a.name for a in control.axes)))
+           tuple(sorted(a.name for a in control.axes)), control.definitions)
     if key not in _cache:
         _cache[key] = _read(paths, os.path.dirname(display), control)
-    return _cache[key]
+    found = _cache[key]
+    return Definitions(found.variables, refused + found.findings, found.sources) if refused else found
 
 
 def _read(paths: list[Path], display_dir: str, control: ControlSpec) -> Definitions:
