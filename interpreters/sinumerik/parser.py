@@ -10,7 +10,7 @@ import difflib
 import math
 import re
 
-from interpreters.sinumerik import arrays, commands, sysvars
+from interpreters.sinumerik import arrays, commands, macros, sysvars
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
@@ -720,13 +720,14 @@ def _machine_code(name: str) -> Code:
 
 def parse_program(
     text: str, path: str, control: ControlSpec, programs: frozenset[str] = frozenset(),
-    known: dict | None = None,
+    known: dict | None = None, known_macros: dict[str, str] | None = None,
 ) -> b.Program:
     """Parse a whole program; never raises for bad text (findings collect the problems).
     ``programs``: the names of the programs beside it (``NAME`` of ``NAME.SPF``), which words
     without separators do not split. ``known``: variables defined before the program (global
-    user data, ``definitions.py``)."""
+    user data, ``definitions.py``); ``known_macros``: macros of the macro files (name -> text)."""
     lines = text.splitlines()
+    table = dict(known_macros or {})
     grammar = Grammar(control, programs)
     variables: dict = dict(known or {})
     blocks: list[b.Block] = []
@@ -736,6 +737,10 @@ def parse_program(
         code, _comment = split_comment(raw)
         if not code.strip():
             continue
+        if (defined := macros.definition(code)) is not None:
+            table[defined[0]] = defined[1]
+            continue
+        code = macros.expand(code, table)
         src = SourceRef(path, lineno, 1, raw)
         block = b.Block(index=len(blocks), line=lineno, text=raw)
         parser = BlockParser(grammar, variables, src)
