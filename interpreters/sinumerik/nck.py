@@ -87,6 +87,7 @@ class Nck:
             "$P_EP": lambda v, i: self._work(i[0]), "$P_F": lambda v, i: self._feed(),
             "$P_S": lambda v, i: machine.spindles.get(i[0] if i else machine.master, [0.0])[0],
             "$P_SEARCH": _zero, "$P_PROG_EVENT": _zero, "$P_DRYRUN": _zero, "$P_ISTEST": _zero,
+            "$P_SEARCHL": _zero,
             "$P_SUBPAR": lambda v, i: int(self.passed(i[0])),
             "$P_AXN1": lambda v, i: machine.geometry[0], "$P_AXN2": lambda v, i: machine.geometry[1],
             "$P_AXN3": lambda v, i: machine.geometry[2], "$P_MSNUM": lambda v, i: machine.master,

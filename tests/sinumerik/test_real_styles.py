@@ -187,3 +187,23 @@ M30
 def test_system_variable_as_index_of_another(tmp_path):
     text = "T1 D1\nM6\nR2=$TC_DP6[$P_TOOLNO,$P_TOOL]\nMSG(\"R\"<<R2)\nM30\n"
     assert messages(ok(tmp_path, text, MILL3)) == ["R0"]
+
+
+def test_machine_data_maker_cycles_read(tmp_path):
+    # maker cycles branch on user machine data and the tool-change mode; unset, they read the
+    # control's defaults, each named once by an info finding
+    text = """IF $MN_USER_DATA_INT[2]<>0 GOTOF SPECIAL
+IF $MC_TOOL_CHANGE_MODE==1 GOTOF SPECIAL
+IF $P_SEARCHL>0 GOTOF SPECIAL
+R1=$MC_CUTTING_EDGE_DEFAULT+$SC_WEAR_SIGN+$MN_USER_DATA_FLOAT[0]
+G0 X=R1
+M30
+SPECIAL:
+SETAL(61000)
+M30
+"""
+    r = ok(tmp_path, text, MILL3)
+    assert [m.axes["X"] for m in moves(r)] == [1.0]
+    named = sorted(f.data["name"] for f in r.findings if f.kind == "machine_data_default")
+    assert named == ["$MC_CUTTING_EDGE_DEFAULT", "$MC_TOOL_CHANGE_MODE", "$MN_USER_DATA_FLOAT",
+                     "$MN_USER_DATA_INT", "$SC_WEAR_SIGN"]
