@@ -207,3 +207,12 @@ M30
     named = sorted(f.data["name"] for f in r.findings if f.kind == "machine_data_default")
     assert named == ["$MC_CUTTING_EDGE_DEFAULT", "$MC_TOOL_CHANGE_MODE", "$MN_USER_DATA_FLOAT",
                      "$MN_USER_DATA_INT", "$SC_WEAR_SIGN"]
+
+
+def test_functions_vmach_does_not_simulate_are_unsupported_by_name(tmp_path):
+    # never `unknown_cycle`, `unknown_word` or `undefined_variable` for the control's own words
+    for line in ("GETSELT(R1)", 'TCA("BALL6", 1, 1)', "SPLINEPATH(1, X, Y, Z)", "G1 X1 PL=2 F100",
+                 "G41 CUT3DC ISD=2 X1 F100"):
+        found = check(tmp_path, f"G0 X0 Y0 Z0\n{line}\nM30\n", MILL5AC)
+        assert [(f.kind, f.line) for f in found] == [("unsupported", 2)], line
+    assert check(tmp_path, "DRFOF\nG0 X0\nM30\n", MILL5AC) == []
