@@ -24,6 +24,7 @@ from typing import Any
 
 from interpreters.sinumerik import strfuncs, sysvars
 from interpreters.sinumerik.errors import EvalError
+from interpreters.sinumerik.language import UNSUPPORTED_FUNCTIONS
 from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token
 from vmach.tol import tol
 
@@ -255,6 +256,8 @@ class ExprParser:
             return self.system(t)
         if nxt.kind == OP and nxt.text == "(" and name in FRAME_FUNCTIONS:
             return self.frame_function(t)
+        if nxt.kind == OP and nxt.text == "(" and name in UNSUPPORTED_FUNCTIONS:
+            raise ParseError("unsupported", f"the function {name} is not simulated by vmach", t.col)
         if nxt.kind == OP and nxt.text == "(":
             raise ParseError("unknown_word", f"unknown function {name}", t.col)
         raise ParseError("undefined_variable", f"{name} is not defined (DEF) before use", t.col)
