@@ -217,3 +217,30 @@ def test_functions_vmach_does_not_simulate_are_unsupported_by_name(tmp_path):
         found = check(tmp_path, f"G0 X0 Y0 Z0\n{line}\nM30\n", MILL5AC)
         assert [(f.kind, f.line) for f in found] == [("unsupported", 2)], line
     assert check(tmp_path, "DRFOF\nCANCEL(1)\nSTOPREOF\nG0 X0\nM30\n", MILL5AC) == []
+
+
+def _strokes(result) -> list[tuple[str, float]]:
+    return [(m.kind, round(m.axes["Z"], 9)) for m in moves(result)[1:]]
+
+
+def test_drilling_cycles_with_the_parameters_operate_appends(tmp_path):
+    # CAM posts write the SINUMERIK Operate lists: CYCLE81(…, DTB, GMODE, DMODE, AMODE)
+    head = "G17 G90 G0 X5 Y6 Z50\nF120\n"
+    r = ok(tmp_path, head + "CYCLE81(10, 0, 2, -5, , 0.5, 0, 1, 11)\nM30\n", MILL3)
+    assert _strokes(r) == [("traverse", 2.0), ("feed", -5.0), ("traverse", 10.0)]
+    assert [c.seconds for c in r.commands if c.kind == "dwell"] == [0.5]
+    # CYCLE83 chip breaking: _VRT 0.5 back-off, _DTD 2 s at the final depth, _DIS1 unused there
+    r = ok(tmp_path, head + "CYCLE83(10, 0, 2, -9, , -4, , 3, 1, 0, 1, 0, 0, 0, 0.5, 2, 0, 0, 1, 11)\nM30\n",
+           MILL3)
+    assert _strokes(r) == [("traverse", 2.0), ("feed", -4.0), ("traverse", -3.5), ("feed", -7.0),
+                           ("traverse", -6.5), ("feed", -9.0), ("traverse", 10.0)]
+    assert [c.seconds for c in r.commands if c.kind == "dwell"] == [2.0]
+    # _MDEP: the strokes get smaller by DAM, never below the minimum depth
+    r = ok(tmp_path, head + "CYCLE83(10, 0, 2, -30, , -10, , 2, 0, 0, 1, 0, 0, 3, 0, 0, 0, 0, 1, 11)\nM30\n",
+           MILL3)
+    assert [z for k, z in _strokes(r) if k == "feed"] == [-10.0, -18.0, -24.0, -28.0, -30.0]
+    for call in ("CYCLE81(10, 0, 2, -5, , 0, 1, 1, 11)",            # GMODE=1: depth to the diameter
+                 "CYCLE83(10, 0, 2, -9, , -4, , 3, 0, 0, 1, 0, 1, 0, 0, 0, 0, 0, 1, 11)",  # _AXN=1
+                 "CYCLE82(10, 0, 2, -5, , -3)"):                    # a dwell in revolutions
+        e = error_of(run(tmp_path, head + call + "\nM30\n", MILL3))
+        assert (e.kind, e.line) == ("unsupported", 3), call
