@@ -244,3 +244,10 @@ def test_drilling_cycles_with_the_parameters_operate_appends(tmp_path):
                  "CYCLE82(10, 0, 2, -5, , -3)"):                    # a dwell in revolutions
         e = error_of(run(tmp_path, head + call + "\nM30\n", MILL3))
         assert (e.kind, e.line) == ("unsupported", 3), call
+
+
+def test_a_transfer_files_end_of_file_character_ends_it(tmp_path):
+    text = "%\r\nN10 G0 X0 Y0 Z10\r\nN20 M30\r\n\x1a"
+    assert check(tmp_path, text, MILL3) == []
+    assert ok(tmp_path, text, MILL3).completed
+    assert [(f.kind, f.line) for f in check(tmp_path, "G0 X0\n\x1aG0 X1\nM30\n", MILL3)] == [("syntax", 2)]
