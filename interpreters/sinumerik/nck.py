@@ -30,7 +30,7 @@ import re
 from collections.abc import Callable
 from typing import Any
 
-from interpreters.sinumerik import sysframes
+from interpreters.sinumerik import nckclock, sysframes
 from interpreters.sinumerik.expr import EvalError
 from interpreters.sinumerik.frames import Matrix
 from interpreters.sinumerik.nckclock import Clock
@@ -220,6 +220,10 @@ class Nck:
             return self.machine.master
         if name in ("$AC_CYCLE_TIME", "$AC_OPERATING_TIME"):
             return self.clock.now()
+        if name in nckclock.CALENDAR:
+            return nckclock.calendar(name, self.clock.now())
+        if name in nckclock.POWER_ON:
+            return self.clock.now() / 60.0
         if name == "$AC_CUTTING_TIME":
             self.clock.now()
             return self.clock.cutting

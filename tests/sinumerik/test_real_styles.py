@@ -251,3 +251,25 @@ def test_a_transfer_files_end_of_file_character_ends_it(tmp_path):
     assert check(tmp_path, text, MILL3) == []
     assert ok(tmp_path, text, MILL3).completed
     assert [(f.kind, f.line) for f in check(tmp_path, "G0 X0\n\x1aG0 X1\nM30\n", MILL3)] == [("syntax", 2)]
+
+
+def test_a_warm_up_that_waits_on_the_controls_clock_ends(tmp_path):
+    # a machine maker's warm-up: spindle steps, axes moving, until 3 minutes have passed on the
+    # control's clock; vmach's clock runs on the estimated machining time from a fixed instant
+    text = """DEF REAL T0, NOW
+N10 G17 G90 G54 G0 X0 Y0 Z0 S2000 M3
+N20 T0=$A_HOUR*60+$A_MINUTE+$A_SECOND/60
+MARK:
+N30 G1 X500 F10000
+N40 X0
+N50 STOPRE
+N60 NOW=$A_HOUR*60+$A_MINUTE+$A_SECOND/60
+N70 IF NOW-T0<3 GOTOB MARK
+N80 MSG("W"<<ROUND($AN_POWERON_TIME)<<" "<<$A_YEAR<<" "<<$A_DAY)
+N90 M5
+N100 M30
+"""
+    r = ok(tmp_path, text, MILL3)
+    feeds = [m for m in moves(r) if m.kind == "feed"]
+    assert len(feeds) == 60                  # 30 rounds of 2 moves of 3 s: 180 s
+    assert messages(r) == ["W3 2000 1"]
