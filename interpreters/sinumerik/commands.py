@@ -31,7 +31,7 @@ from interpreters.sinumerik import approach, sandbox
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
-from interpreters.sinumerik.expr import EvalError, compile_expr
+from interpreters.sinumerik.expr import EvalError, Node, compile_expr
 from interpreters.sinumerik.language import CODES, COMMANDS
 from interpreters.sinumerik.lexer import IDENT, NUM, OP, STR
 from vmach.errors import ProgramError
@@ -147,8 +147,6 @@ def runtime_axis(it: Running, word: b.Word) -> Callable[[], b.Word]:
     """The axis word of ``AX[variable]=value`` (``word.name`` the AXIS variable): a closure
     giving the word of the axis the variable names when the block runs; an axis the machine
     does not have is ``unknown_axis``."""
-    from interpreters.sinumerik.expr import Node
-
     get = compile_expr(Node("var", word.col, word.name), it.env)
     control = it.control
     axes = {a.name for a in control.axes} | set(control.geometry)
@@ -169,6 +167,10 @@ def program_call(p: Reading, t) -> b.Call:
     """``CALL "NAME"``, ``EXTCALL "NAME"``, ``PCALL NAME(args)`` or ``PCALL /_N_…_SPF(args)``
     (the statement's token consumed)."""
     how = t.text
+    if how == "CALL" and p.tok.kind == IDENT and p.tok.text in p.variables:   # CALL PNAME (a STRING)
+        v = p.tok
+        p.pos += 1
+        return b.Call(t.col, v.text, (Node("var", v.col, v.text),), how="CALL_VAR")
     if how != "PCALL":
         if p.tok.kind != STR:
             p.fail("syntax", f'{how} needs a program name in quotes: {how} "NAME"')

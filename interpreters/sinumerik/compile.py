@@ -456,6 +456,16 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
         name, how = item.name, item.how
         if item.cycle:
             return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
+        if how == "CALL_VAR":       # CALL PNAME: the program the STRING variable names
+            get = fs[0]
+
+            def call_var(v):
+                target = get()
+                if target.__class__ is not str or not target.strip():
+                    raise EvalError("type_error", f"CALL {name}: {name} holds no program name ({target!r})")
+                v.call = (commands.program_name(target, "CALL"), [], col, "CALL")
+
+            return call_var, col
 
         def call(v):
             v.call = (

@@ -237,9 +237,15 @@ class BlockParser:
             block.kind = "nc"
             block.items.append(b.Keyword(t.col, "RET"))
             self.expect_end("RET")
+        elif name == "CALL" and self.tok.kind == IDENT and self.tok.text == "BLOCK":
+            self.pos += 1
+            self.call_block(block)
         elif name in ("CALL", "EXTCALL", "PCALL"):
             block.kind = "nc"
             block.items.append(commands.program_call(self, t))
+            if self.tok.kind == IDENT and self.tok.text == "BLOCK":
+                self.fail("unsupported", "CALL \"NAME\" BLOCK …: a section of another program is not "
+                          "simulated")
             self.expect_end(name)
         elif name == "EXTERN":
             block.kind = "empty"  # declaration of a subprogram's signature: nothing to run
@@ -263,6 +269,23 @@ class BlockParser:
         self.expect_end(name)
         block.kind = "section"
         block.section = (labels[0], labels[1] if len(labels) > 1 else None, count, name == "REPEATB")
+
+    def call_block(self, block: b.Block) -> None:
+        """``CALL BLOCK start TO end``: the section of this program from label ``start`` to label
+        ``end`` runs once, as ``REPEAT start end P=1`` does."""
+        labels = []
+        for k in range(2):
+            if self.tok.kind != IDENT:
+                self.fail("syntax", "CALL BLOCK needs a start and an end label: CALL BLOCK START TO END")
+            labels.append(self.tok.text)
+            self.pos += 1
+            if k == 0:
+                if not (self.tok.kind == IDENT and self.tok.text == "TO"):
+                    self.fail("syntax", "CALL BLOCK start TO end: TO expected")
+                self.pos += 1
+        self.expect_end("CALL BLOCK")
+        block.kind = "section"
+        block.section = (labels[0], labels[1], None, False)
 
     def jump(self) -> b.Jump:
         t = self.tok

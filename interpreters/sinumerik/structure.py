@@ -298,6 +298,8 @@ def successors(program: Program, i: int) -> list[int]:
             t = find_target(program, i, blk.default)
             return tg + ([t] if t is not None else nxt)
         return tg + nxt
+    if k == "section" and blk.section is not None:   # REPEAT / CALL BLOCK: the section runs first
+        return sorted(program.labels.get(blk.section[0], [])) + nxt
     return nxt
 
 

@@ -273,3 +273,24 @@ N100 M30
     feeds = [m for m in moves(r) if m.kind == "feed"]
     assert len(feeds) == 60                  # 30 rounds of 2 moves of 3 s: 180 s
     assert messages(r) == ["W3 2000 1"]
+
+
+def test_indirect_calls_a_program_named_by_a_variable_and_a_section_of_this_one(tmp_path):
+    text = """DEF STRING[32] PNAME
+G0 X0 Y0 Z0
+PNAME="UP_"<<2
+CALL PNAME
+CALL BLOCK START TO FINISH
+G0 Z9
+M30
+START: G0 X5
+FINISH: G0 X6
+"""
+    r = ok(tmp_path, text, MILL3, UP_2_DOT_SPF="G0 Y7\nM17\n")
+    assert [(m.source.line, m.axes["X"], m.axes["Y"], m.axes["Z"]) for m in moves(r)] == [
+        (2, 0.0, 0.0, 0.0), (1, 0.0, 7.0, 0.0), (8, 5.0, 7.0, 0.0), (9, 6.0, 7.0, 0.0), (6, 6.0, 7.0, 9.0)]
+    assert check(tmp_path, text, MILL3, UP_2_DOT_SPF="G0 Y7\nM17\n") == []
+    e = error_of(run(tmp_path, text.replace('"UP_"<<2', '"NONE"'), MILL3))
+    assert (e.kind, e.line) == ("subprogram_not_found", 4)
+    found = check(tmp_path, 'G0 X0\nCALL "UP_2" BLOCK START TO FINISH\nM30\n', MILL3, UP_2_DOT_SPF="M17\n")
+    assert [(f.kind, f.line) for f in found] == [("unsupported", 2)]
