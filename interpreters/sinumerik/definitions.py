@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -87,6 +88,15 @@ def _macros(paths: list[Path], display_dir: str) -> tuple[dict[str, str], list[F
     left alone (a macro file holds definitions only)."""
     table: dict[str, str] = {}
     findings: list[Finding] = []
+    for _display, text in _texts(paths, display_dir, findings):
+        for raw in text.splitlines():
+            if (d := macros.definition(split_comment(raw)[0])) is not None:
+                table[d[0]] = d[1]
+    return table, findings
+
+
+def _texts(paths: list[Path], display_dir: str, findings: list[Finding]) -> Iterator[tuple[str, str]]:
+    """(name to show, text) of each file; one that cannot be read is an ``unreadable`` finding."""
     for path in paths:
         display = os.path.join(display_dir, path.name)
         try:
@@ -94,10 +104,7 @@ def _macros(paths: list[Path], display_dir: str) -> tuple[dict[str, str], list[F
         except Exception as exc:  # an unreadable file is a finding, not a traceback
             findings.append(error("unreadable", f"{display}: {exc}", SourceRef(display, 1)))
             continue
-        for raw in text.splitlines():
-            if (d := macros.definition(split_comment(raw)[0])) is not None:
-                table[d[0]] = d[1]
-    return table, findings
+        yield display, text
 
 
 def named(directory: Path, control: ControlSpec) -> tuple[list[Path], list[str]]:
@@ -145,13 +152,7 @@ def _read(paths: list[Path], display_dir: str, control: ControlSpec) -> Definiti
     variables: dict = {}
     sources: dict[str, SourceRef] = {}
     findings: list[Finding] = []
-    for path in paths:
-        display = os.path.join(display_dir, path.name)
-        try:
-            text = decode_text(read_bytes(path, display))
-        except Exception as exc:  # an unreadable file is a finding, not a traceback
-            findings.append(error("unreadable", f"{display}: {exc}", SourceRef(display, 1)))
-            continue
+    for display, text in _texts(paths, display_dir, findings):
         for lineno, raw in enumerate(text.splitlines(), start=1):
             code = split_comment(raw)[0].strip()
             if not code or code.startswith("%") or code.upper() in _END:
