@@ -313,15 +313,21 @@ def run_positions(it: Running, positions: list, src: SourceRef) -> None:
         positions.clear()
 
 
+#: names of the cycles in the control's cycle directories: Siemens and the machine maker's
+#: CYCLEnnn, and the ShopMill (E_…) and ShopTurn (F_…) step cycles of a machining step program
+CONTROL_CYCLE = re.compile(r"^(CYCLE\d+|[EF]_[A-Z][A-Z0-9_]*)$")
+
+
 def not_found(name: str, how: str, programs, control) -> tuple[str, str]:
     """Kind and message for a call whose program is not beside the caller: a file the program
     names (CALL/PCALL/EXTCALL) is ``subprogram_not_found``; a name that is no command, cycle
     or program is ``unknown_cycle``, with the nearest known name."""
     if how:
         return "subprogram_not_found", f"{how} {name}: no {name}.SPF or {name}.MPF beside the program"
-    if re.match(r"^CYCLE\d+$", name):     # the control's cycle directories hold these
-        return "unsupported", (f"{name} is a cycle of the control (Siemens or the machine maker's) that "
-                               "vmach does not simulate and that is not beside the program")
+    if CONTROL_CYCLE.match(name):     # the control's cycle directories hold these
+        return "unsupported", (f"{name} is a cycle of the control (Siemens, ShopMill/ShopTurn or the "
+                               "machine maker's) that vmach does not simulate and that is not beside the "
+                               "program")
     pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *COMMANDS})
     close = difflib.get_close_matches(name, pool, n=1, cutoff=0.75)
     hint = f"; did you mean {close[0]}?" if close else ""
