@@ -88,6 +88,11 @@ class ControlSpec:
     dialect : str or None
         The machine's control language (``"sinumerik"``, ``"rs274ngc"``): it reads programs
         whose extension does not say (``.nc``); None: not declared.
+    definitions : tuple of str
+        Files of global user data (GUD definition files) the control has besides those found by
+        their standard names (``_N_SGUD_DEF`` …), by name relative to the program's directory:
+        read from there only (a name leading outside is refused), from the model's
+        ``[control] definitions`` and the setup file's ``definitions``.
     machine_data : mapping
         The control's data a program may read, by name with ``$`` (``"$MA_POS_LIMIT_PLUS"``):
         machine and setting data, swivel data (``$TC_CARR``), PLC and I/O start values. A value
@@ -106,6 +111,7 @@ class ControlSpec:
     master_spindle: int = 1
     dialect: str | None = None
     machine_data: Mapping[str, Any] = field(default_factory=dict)
+    definitions: tuple[str, ...] = ()
 
     def axis(self, name: str) -> AxisSpec | None:
         for a in self.axes:

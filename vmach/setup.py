@@ -9,6 +9,7 @@ Command-line options win; otherwise a ``vmach.toml`` beside the program says wha
     profile_z = "-35:-5"
     accuracy = "fine"                    # stock simulation preset (vmach.tol.ACCURACY)
     default_tool = "flat:d=10"           # stands in for tools the library lacks (vmach.defaults)
+    definitions = ["GUD/MAKER.DEF"]      # GUD definition files besides _N_SGUD_DEF … (Sinumerik)
 
     [zero_offsets.G54]                   # settable zero offsets, mm / degrees
     Z = 0.0
@@ -55,6 +56,7 @@ class Setup:
     default_tool: str | None = None
     zero_offsets: dict[str, dict[str, float]] = field(default_factory=dict)
     parameters: dict[str, float | tuple[float, ...]] = field(default_factory=dict)  # the model's set-up
+    definitions: tuple[str, ...] = ()  # GUD files, relative to the program's directory
     source: Path | None = None  # the vmach.toml read, if any
     #: where each text setting was read (key -> its line in the vmach.toml), for findings about it
     places: dict[str, SourceRef] = field(default_factory=dict)
@@ -88,7 +90,7 @@ def resolve_model(spec: str | Path, base: Path | None = None) -> Path:
 #: the setup file's text settings (each a string when given)
 TEXT_KEYS = ("machine", "tools", "stock", "profile", "profile_z", "accuracy", "default_tool")
 #: every key a setup file's top level (and, but for ``programs``, a program's table) may hold
-SETUP_KEYS = (*TEXT_KEYS, "zero_offsets", "parameters", "programs")
+SETUP_KEYS = (*TEXT_KEYS, "definitions", "zero_offsets", "parameters", "programs")
 
 
 def unknown_keys(data: dict[str, Any], places) -> list:
@@ -193,6 +195,15 @@ def read_setup(program: str | Path) -> Setup:
     if tools and not contained(base / tools, base):
         raise InputError(f"{SETUP_NAME}: tools = {tools!r} {OUTSIDE}", kind="file_outside",
                          source=places.find(where["tools"]))
+    definitions = data.get("definitions", [])
+    if not isinstance(definitions, list) or not all(isinstance(v, str) and v for v in definitions):
+        raise bad(where.get("definitions", ("definitions",)), "must be a list of file names")
+    for name in definitions:
+        if (problem := file_problem(base / name)) is not None:
+            raise bad(where["definitions"], f"names {name!r}: {problem}")
+        if not contained(base / name, base):
+            raise InputError(f"{SETUP_NAME}: definitions names {name!r}, which {OUTSIDE}",
+                             kind="file_outside", source=places.find(where["definitions"]))
     return Setup(
         machine=model,
         tools=(base / tools) if tools else None,
@@ -203,6 +214,7 @@ def read_setup(program: str | Path) -> Setup:
         default_tool=data.get("default_tool"),
         zero_offsets=zero,
         parameters=params,
+        definitions=tuple(definitions),
         source=path,
         places={k: places.find(where[k]) for k in TEXT_KEYS if k in data},
     )
@@ -249,7 +261,10 @@ def control_for(program: str | Path, machine: str | None, *,
 
 
 def with_offsets(control: ControlSpec, setup: Setup) -> ControlSpec:
-    """The control with the setup file's zero offsets laid over the model's."""
+    """The control with the setup file's zero offsets laid over the model's (and its GUD
+    definition files after the model's)."""
+    if setup.definitions:
+        control = replace(control, definitions=tuple(dict.fromkeys(control.definitions + setup.definitions)))
     if not setup.zero_offsets:
         return control
     merged = {k: dict(v) for k, v in control.zero_offsets.items()}

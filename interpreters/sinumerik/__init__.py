@@ -52,7 +52,7 @@ def _names(
     stems = program_names(directory) | archived
     for blk in program.blocks:
         for item in blk.items:
-            if not isinstance(item, b.Call) or item.cycle:
+            if not isinstance(item, b.Call) or item.cycle or item.how == "CALL_VAR":   # named at run time
                 continue
             if item.name in archived or find_subprogram(directory, item.name) is not None:
                 continue

@@ -71,7 +71,11 @@ def _only(lines: list[str], start: int, stop: int) -> str:
 def split(text: str, display: str) -> tuple[str, dict[str, str], list[Finding]]:
     """(the program's text, the other programs by name, notes) of a file: its first program
     section is the program; a section that is no program is said in an ``info`` finding
-    ``archive_section`` (vmach does not read it)."""
+    ``archive_section`` (vmach does not read it). A SUB character (``\x1a``, the end of file of
+    DOS-era transfer programs) at the end of the text, only white space after it, ends the file."""
+    end = text.rfind("\x1a")
+    if end >= 0 and not text[end + 1:].strip():
+        text = text[:end]
     secs = sections(text)
     programs = [s for s in secs if s.is_program]
     main = programs[0].text if programs else _only(text.splitlines(), 0, 0)

@@ -69,7 +69,8 @@ def _rep_counted(p: Reading) -> bool:
 
 def fill(p: Reading, t, target: b.Target) -> list[b.Item]:
     """``A[i, j]=SET(...)`` / ``A[i]=REP(...)``: one assignment per value, from element
-    ``[i, j]`` on in row order (constant indices; a variable index on a 1-D array)."""
+    ``[i, j]`` on in row order (constant or computed indices; REP without its count needs
+    constant ones)."""
     d = p.variables[target.name]
     dims = getattr(d, "dims", ())
     if not dims:
@@ -88,13 +89,32 @@ def fill(p: Reading, t, target: b.Target) -> list[b.Item]:
         return [b.Assign(t.col, b.Target(name=target.name, index=tuple(
             _num(i, t.col) for i in unravel(start + k, dims))), v)
             for k, v in enumerate(values) if v is not None]
-    if len(dims) > 1 or (p.is_op("(", 1) and p.tok.text == "REP" and not _rep_counted(p)):
-        p.fail("unsupported", f"{target.name}[...]=SET/REP with a computed index is simulated on "
-                  "arrays of one dimension, and REP there with its count", t.col)
-    values = value_list(p, dims[0], target.name)
-    return [b.Assign(t.col, b.Target(name=target.name, index=(
-        Node("+", t.col, None, (idx[0], _num(k, t.col))),)), v)
-        for k, v in enumerate(values) if v is not None]
+    if p.is_op("(", 1) and p.tok.text == "REP" and not _rep_counted(p):
+        p.fail("unsupported", f"{target.name}[...]=REP(value) with a computed index (REP without "
+                  "its count fills to the array's end, which vmach knows only at run time)", t.col)
+    values = value_list(p, math.prod(dims), target.name)
+    return [b.Assign(t.col, b.Target(name=target.name, index=idx if k == 0 else _following(
+        idx, dims, k, t.col)), v) for k, v in enumerate(values) if v is not None]
+
+
+def _following(idx: tuple[Node, ...], dims: tuple[int, ...], k: int, col: int) -> tuple[Node, ...]:
+    """Index expressions of the ``k``-th element after ``[idx]`` in row order: the flat
+    position ``p = Σ idx[j]·stride[j] + k`` split again (``p DIV stride[j] MOD dims[j]``; the
+    first index not wrapped, so running past the array's end is ``index_range``)."""
+    flat: Node = _num(k, col)
+    stride = 1
+    strides = []
+    for n in reversed(dims):
+        strides.append(stride)
+        stride *= n
+    strides.reverse()
+    for x, st in zip(idx, strides, strict=True):
+        flat = Node("+", col, None, (flat, x if st == 1 else Node("*", col, None, (x, _num(st, col)))))
+    out = []
+    for j, (n, st) in enumerate(zip(dims, strides, strict=True)):
+        e = flat if st == 1 else Node("DIV", col, None, (flat, _num(st, col)))
+        out.append(e if j == 0 else Node("MOD", col, None, (e, _num(n, col))))
+    return tuple(out)
 
 
 def unravel(k: int, dims: tuple[int, ...]) -> tuple[int, ...]:

@@ -84,7 +84,8 @@ class FrameCmd:
 @dataclass(frozen=True, slots=True)
 class Call:
     """Call of a subprogram or a machine cycle by name; ``repeat`` is the P count; ``how``:
-    "CALL", "PCALL" or "EXTCALL" when the program names a file, "" for a call by name."""
+    "CALL", "PCALL" or "EXTCALL" when the program names a file, "" for a call by name,
+    "CALL_VAR" for ``CALL PNAME`` (``name`` the STRING variable, ``args`` its read)."""
 
     col: int
     name: str

@@ -27,11 +27,11 @@ import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from interpreters.sinumerik import approach, sandbox
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import sandbox
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
-from interpreters.sinumerik.expr import EvalError, compile_expr
+from interpreters.sinumerik.expr import EvalError, Node, compile_expr
 from interpreters.sinumerik.language import CODES, COMMANDS
 from interpreters.sinumerik.lexer import IDENT, NUM, OP, STR
 from vmach.errors import ProgramError
@@ -61,7 +61,7 @@ def _procedure(p: Reading, t) -> b.Item:
 
 def _value(p: Reading, t) -> b.Item:
     p.expect_op("=")
-    return b.Command(t.col, t.text, "value", (p.expr(),))
+    return b.Command(t.col, t.text, COMMANDS[t.text].kind, (p.expr(),))
 
 
 def _axis_value(p: Reading, t) -> b.Item:
@@ -77,6 +77,21 @@ def _axis_value(p: Reading, t) -> b.Item:
         mode, node = p.moded_value()
         return b.Command(t.col, t.text, kind, (node,), at.text, mode)
     return b.Command(t.col, t.text, kind, (p.expr(),), at.text)
+
+
+def _axis_mark(p: Reading, t) -> b.Item:
+    """``FINEA[X]`` or ``FINEA=X``: an axis named, no value."""
+    close = p.is_op("[")
+    if not (close or p.is_op("=")):
+        p.fail("syntax", f"{t.text} needs an axis: {t.text}[X] or {t.text}=X")
+    p.pos += 1
+    at = p.tok
+    if at.kind != IDENT or not p.g.is_axis(at.text):
+        p.fail("unknown_axis", f"{t.text} needs an axis of this machine, found {p.describe(at)}")
+    p.pos += 1
+    if close:
+        p.expect_op("]")
+    return b.Command(t.col, t.text, "axis_mark", (), at.text)
 
 
 def _alarm(p: Reading, t) -> b.Item:
@@ -119,17 +134,43 @@ def axis_address(p: Reading, t) -> b.Word:
         p.expect_op("=")
         mode, node = p.moded_value()
         return b.Word(t.col, at.text, "axis", node, None, mode)
-    if at.kind == IDENT and at.text in p.variables:
-        p.fail("unsupported", f"AX[{at.text}]: an axis chosen at run time (an AXIS variable) is not "
-               "simulated", at.col)
+    if at.kind == IDENT and at.text in p.variables and p.is_op("]", 1):
+        p.pos += 2
+        p.expect_op("=")
+        mode, node = p.moded_value()
+        return b.Word(t.col, at.text, "axis_var", node, None, mode)
     p.fail("unknown_axis", f"AX[...] needs an axis of this machine, found {p.describe(at)}", at.col)
     raise AssertionError
+
+
+def runtime_axis(it: Running, word: b.Word) -> Callable[[], b.Word]:
+    """The axis word of ``AX[variable]=value`` (``word.name`` the AXIS variable): a closure
+    giving the word of the axis the variable names when the block runs; an axis the machine
+    does not have is ``unknown_axis``."""
+    get = compile_expr(Node("var", word.col, word.name), it.env)
+    control = it.control
+    axes = {a.name for a in control.axes} | set(control.geometry)
+
+    def resolve() -> b.Word:
+        name = get()
+        if name.__class__ is not str or not name:
+            raise EvalError("type_error", f"AX[{word.name}]: {word.name} holds no axis ({name!r})")
+        name = name.strip().upper()
+        if name not in axes and (control.strict_axes or not re.fullmatch(r"[ABCUVWXYZ]\d*", name)):
+            raise EvalError("unknown_axis", f"AX[{word.name}]: {name} is not an axis of this machine")
+        return b.Word(word.col, name, "axis", word.expr, None, word.mode)
+
+    return resolve
 
 
 def program_call(p: Reading, t) -> b.Call:
     """``CALL "NAME"``, ``EXTCALL "NAME"``, ``PCALL NAME(args)`` or ``PCALL /_N_…_SPF(args)``
     (the statement's token consumed)."""
     how = t.text
+    if how == "CALL" and p.tok.kind == IDENT and p.tok.text in p.variables:   # CALL PNAME (a STRING)
+        v = p.tok
+        p.pos += 1
+        return b.Call(t.col, v.text, (Node("var", v.col, v.text),), how="CALL_VAR")
     if how != "PCALL":
         if p.tok.kind != STR:
             p.fail("syntax", f'{how} needs a program name in quotes: {how} "NAME"')
@@ -161,6 +202,10 @@ _READERS: dict[str, Callable] = {
     "file": _procedure,
     "cycle": _cycle,
     "unsupported": _unsupported,
+    "approach": approach.read_approach,
+    "limits": approach.read_limits,
+    "axis_mark": _axis_mark,
+    "zero_value": _value,
 }
 
 
@@ -218,6 +263,10 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
         return lambda v: positions.append((word, _number(f(), name)))  # type: ignore[misc]
     if kind == "file":
         return sandbox.step(it, item, src)
+    if kind == "approach":
+        return approach.step(it, item, src)
+    if kind == "zero_value":
+        return _zero_value(it, item, fs[0], src)
     if kind == "alarm":
         f = fs[0]
 
@@ -239,6 +288,18 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
     return record
 
 
+def _zero_value(it: Running, item: b.Command, f: Callable, src: SourceRef) -> Callable:
+    note, effect = it.recorder.note, COMMANDS[item.name].effect
+
+    def zero(v):
+        value = _number(f(), item.name)
+        if value != 0:
+            raise EvalError("unsupported", f"{item.name}={value:g}: {effect}; vmach simulates only 0")
+        note(item.name, effect, src.at(item.col))
+
+    return zero
+
+
 def run_positions(it: Running, positions: list, src: SourceRef) -> None:
     """POS/POSA of one block: each axis traverses to its value after the path motion."""
     machine = it.machine
@@ -252,15 +313,21 @@ def run_positions(it: Running, positions: list, src: SourceRef) -> None:
         positions.clear()
 
 
+#: names of the cycles in the control's cycle directories: Siemens and the machine maker's
+#: CYCLEnnn, and the ShopMill (E_…) and ShopTurn (F_…) step cycles of a machining step program
+CONTROL_CYCLE = re.compile(r"^(CYCLE\d+|[EF]_[A-Z][A-Z0-9_]*)$")
+
+
 def not_found(name: str, how: str, programs, control) -> tuple[str, str]:
     """Kind and message for a call whose program is not beside the caller: a file the program
     names (CALL/PCALL/EXTCALL) is ``subprogram_not_found``; a name that is no command, cycle
     or program is ``unknown_cycle``, with the nearest known name."""
     if how:
         return "subprogram_not_found", f"{how} {name}: no {name}.SPF or {name}.MPF beside the program"
-    if re.match(r"^CYCLE\d+$", name):     # the control's cycle directories hold these
-        return "unsupported", (f"{name} is a cycle of the control (Siemens or the machine maker's) that "
-                               "vmach does not simulate and that is not beside the program")
+    if CONTROL_CYCLE.match(name):     # the control's cycle directories hold these
+        return "unsupported", (f"{name} is a cycle of the control (Siemens, ShopMill/ShopTurn or the "
+                               "machine maker's) that vmach does not simulate and that is not beside the "
+                               "program")
     pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *COMMANDS})
     close = difflib.get_close_matches(name, pool, n=1, cutoff=0.75)
     hint = f"; did you mean {close[0]}?" if close else ""

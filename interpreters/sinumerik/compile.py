@@ -329,7 +329,7 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt, positions):
 #: which list of Values each kind of item appends to
 _LISTS = {
     "gcodes": {"gcode"},
-    "axes": {"axis"},
+    "axes": {"axis", "axis_var"},
     "speeds": {"speed"},
     "ms": {"m"},
     "cycles": {"cycle", "machine_gcode", "aux", "spos", "builtin"},
@@ -364,6 +364,9 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
         kind = item.kind
         if kind == "axis":
             return (lambda v: v.axes.append((item, _number(f(), item.name)))), col
+        if kind == "axis_var":      # AX[variable]=value: the axis is chosen when the block runs
+            axis = commands.runtime_axis(it, item)
+            return (lambda v: v.axes.append((w := axis(), _number(f(), w.name)))), col
         if kind in ("interp", "cr", "turn", "corner", "polar"):
             name, mode = item.name, item.mode
             return (lambda v: v.interp.__setitem__(name, (_number(f(), name), mode))), col
@@ -420,12 +423,12 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
             return (lambda v: v.cycles.append((code.name, []))), col
         return (lambda v: v.gcodes.append((col, code))), col
     if isinstance(item, b.FrameCmd):
-        fs = [(w.name, compile_expr(w.expr, env)) for w in item.words]
+        fs = [(_frame_axis(it, w), compile_expr(w.expr, env)) for w in item.words]
         rpl = compile_expr(item.rpl, env) if item.rpl is not None else None
 
         def frame(v):
             v.frame = item
-            v.frame_values = {n: float(_number(g(), n)) for n, g in fs}
+            v.frame_values = {(n := a()): float(_number(g(), n)) for a, g in fs}
             v.rpl = float(_number(rpl(), "RPL")) if rpl is not None else None
 
         return frame, col
@@ -453,6 +456,16 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
         name, how = item.name, item.how
         if item.cycle:
             return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
+        if how == "CALL_VAR":       # CALL PNAME: the program the STRING variable names
+            get = fs[0]
+
+            def call_var(v):
+                target = get()
+                if target.__class__ is not str or not target.strip():
+                    raise EvalError("type_error", f"CALL {name}: {name} holds no program name ({target!r})")
+                v.call = (commands.program_name(target, "CALL"), [], col, "CALL")
+
+            return call_var, col
 
         def call(v):
             v.call = (
@@ -472,6 +485,15 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
             return ret, col
         return (lambda v: None), col
     raise AssertionError(f"unknown item {item!r}")
+
+
+def _frame_axis(it: Running, word: b.Word) -> Callable[[], str]:
+    """The axis a frame instruction's word names: fixed, or chosen at run time (``AX[_A]=``)."""
+    if word.kind == "axis_var":
+        resolve = commands.runtime_axis(it, word)
+        return lambda: resolve().name
+    name = word.name
+    return lambda: name
 
 
 def _argument(node, env):

@@ -12,28 +12,33 @@ maker, ``_N_MGUD_DEF``, ``_N_UGUD_DEF`` for the user, ``_N_GUD4_DEF`` .. ``_N_GU
 
 vmach reads such files from the program's own directory only (never a link leading out of it),
 named as the control names them or as a PC copy does: ``_N_UGUD_DEF``, ``UGUD.DEF``,
-``_N_UGUD_DEF.DEF`` (any case). Their variables exist in every program of the directory with
+``_N_UGUD_DEF.DEF`` (any case), and the files the machine model (``[control] definitions``) or
+the setup file (``definitions`` in ``vmach.toml``) name, relative to the program's directory
+and inside it, read after those. Their variables exist in every program of the directory with
 their types, initial values and arrays; NCK and CHAN variables are both global (vmach simulates
-one channel). Access attributes (``APR``/``APW`` ...), limits (``LLI``/``ULI``) and ``PHU`` are read
-and have no effect. A definition vmach does not simulate (``DEF NCK FRAME``) is a warning
-(``unsupported_definition``), since the file is valid on the control. Macro files
-(``_N_SMAC_DEF`` ...) are not definition files of variables.
+one channel). Macro files (``_N_SMAC_DEF``, ``_N_MMAC_DEF``, ``_N_UMAC_DEF``) give the macros
+(``DEFINE … AS``, ``macros.py``) every program of the directory knows. Access attributes
+(``APR``/``APW`` ...), limits (``LLI``/``ULI``) and ``PHU`` are read and have no effect. A
+definition vmach does not simulate (``DEF NCK FRAME``) is a warning (``unsupported_definition``),
+since the file is valid on the control.
 """
 
 from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass
+from collections.abc import Iterator
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik import macros
 from interpreters.sinumerik.language import TYPES
 from interpreters.sinumerik.lexer import IDENT, split_comment, tokenize
 from interpreters.sinumerik.parser import BlockParser, Grammar
 from vmach.canon import ControlSpec
 from vmach.errors import ProgramError
-from vmach.files import decode_text, read_bytes
+from vmach.files import contained, decode_text, read_bytes
 from vmach.findings import Finding, error, warning
 from vmach.source import SourceRef
 
@@ -41,6 +46,9 @@ from vmach.source import SourceRef
 GUD_FILE = re.compile(r"^(?:_N_)?(SGUD|MGUD|UGUD|GUD[4-9])(?:_DEF(?:\.DEF)?|\.DEF)$", re.IGNORECASE)
 #: the modules in the order the control activates them
 MODULES = ("SGUD", "MGUD", "UGUD", "GUD4", "GUD5", "GUD6", "GUD7", "GUD8", "GUD9")
+#: a macro file's name (``DEFINE … AS`` lines, macros.py), in the order the control reads them
+MACRO_FILE = re.compile(r"^(?:_N_)?(SMAC|MMAC|UMAC)(?:_DEF(?:\.DEF)?|\.DEF)$", re.IGNORECASE)
+MACRO_MODULES = ("SMAC", "MMAC", "UMAC")
 _END = {"M30", "M17", "M02", "M2", "RET"}
 
 
@@ -52,47 +60,43 @@ class Definitions:
     variables: dict[str, b.VarDef]
     findings: tuple[Finding, ...]
     sources: dict[str, SourceRef]
+    macros: dict[str, str] = field(default_factory=dict)   # name -> text (macro files)
 
 
 EMPTY = Definitions({}, (), {})
 _cache: dict[tuple, Definitions] = {}
 
 
-def files(directory: Path) -> list[Path]:
-    """The GUD files of ``directory`` in activation order (links leading out are left out)."""
+def files(directory: Path, pattern: re.Pattern = GUD_FILE, order: tuple[str, ...] = MODULES) -> list[Path]:
+    """The GUD files (or macro files) of ``directory`` in activation order (links leading out
+    are left out)."""
     try:
         entries = sorted(os.listdir(directory))
     except OSError:
         return []
     found = []
     for entry in entries:
-        m = GUD_FILE.match(entry)
+        m = pattern.match(entry)
         p = directory / entry
         if m and p.is_file() and p.resolve().parent == directory.resolve():
-            found.append((MODULES.index(m.group(1).upper()), entry, p))
+            found.append((order.index(m.group(1).upper()), entry, p))
     return [p for _, _, p in sorted(found)]
 
 
-def load(program: Path, display: str, control: ControlSpec) -> Definitions:
-    """The global variables defined in the GUD files beside ``program`` (cached per file
-    state); findings name the files as ``display`` (the program as the user named it) does."""
-    directory = program.resolve().parent
-    paths = files(directory)
-    if not paths:
-        return EMPTY
-    key = (str(directory), os.path.dirname(display),
-           tuple((str(p), p.stat().st_mtime_ns, p.stat().st_size) for p in paths),
-           tuple(sorted(a.name for a in control.axes)))
-    if key not in _cache:
-        _cache[key] = _read(paths, os.path.dirname(display), control)
-    return _cache[key]
-
-
-def _read(paths: list[Path], display_dir: str, control: ControlSpec) -> Definitions:
-    grammar = Grammar(control)
-    variables: dict = {}
-    sources: dict[str, SourceRef] = {}
+def _macros(paths: list[Path], display_dir: str) -> tuple[dict[str, str], list[Finding]]:
+    """The macros of the macro files: every ``DEFINE name AS text`` line; other lines are
+    left alone (a macro file holds definitions only)."""
+    table: dict[str, str] = {}
     findings: list[Finding] = []
+    for _display, text in _texts(paths, display_dir, findings):
+        for raw in text.splitlines():
+            if (d := macros.definition(split_comment(raw)[0])) is not None:
+                table[d[0]] = d[1]
+    return table, findings
+
+
+def _texts(paths: list[Path], display_dir: str, findings: list[Finding]) -> Iterator[tuple[str, str]]:
+    """(name to show, text) of each file; one that cannot be read is an ``unreadable`` finding."""
     for path in paths:
         display = os.path.join(display_dir, path.name)
         try:
@@ -100,6 +104,55 @@ def _read(paths: list[Path], display_dir: str, control: ControlSpec) -> Definiti
         except Exception as exc:  # an unreadable file is a finding, not a traceback
             findings.append(error("unreadable", f"{display}: {exc}", SourceRef(display, 1)))
             continue
+        yield display, text
+
+
+def named(directory: Path, control: ControlSpec) -> tuple[list[Path], list[str]]:
+    """The GUD files ``control.definitions`` names (the model's, the setup file's) that are in
+    ``directory`` or below it, and the names that lead outside it (never read). A name that
+    is not there is left out: a model names its files for every program of the machine."""
+    inside, outside = [], []
+    for name in control.definitions:
+        p = directory / name
+        if not os.path.lexists(p):
+            continue
+        if not contained(p, directory):
+            outside.append(name)
+        elif p.is_file():
+            inside.append(p)
+    return inside, outside
+
+
+def load(program: Path, display: str, control: ControlSpec) -> Definitions:
+    """The global variables defined in the GUD files beside ``program`` (cached per file
+    state); findings name the files as ``display`` (the program as the user named it) does."""
+    directory = program.resolve().parent
+    paths = files(directory)
+    macro_paths = files(directory, MACRO_FILE, MACRO_MODULES)
+    extra, outside = named(directory, control)
+    paths += [p for p in extra if all(p.resolve() != q.resolve() for q in paths)]
+    refused = tuple(error("file_outside", f"the GUD file {n} the machine or setup names leads outside the "
+                          "program's directory (never read)", SourceRef(display, 1)) for n in outside)
+    if not paths and not macro_paths:
+        return Definitions({}, refused, {}) if refused else EMPTY
+    key = (str(directory), os.path.dirname(display),
+           tuple((str(p), p.stat().st_mtime_ns, p.stat().st_size) for p in paths + macro_paths),
+           tuple(sorted(a.name for a in control.axes)), control.definitions)
+    if key not in _cache:
+        got = _read(paths, os.path.dirname(display), control)
+        table, problems = _macros(macro_paths, os.path.dirname(display))
+        _cache[key] = Definitions(got.variables, got.findings + tuple(problems), got.sources, table)
+    found = _cache[key]
+    return Definitions(found.variables, refused + found.findings, found.sources, found.macros) if refused \
+        else found
+
+
+def _read(paths: list[Path], display_dir: str, control: ControlSpec) -> Definitions:
+    grammar = Grammar(control)
+    variables: dict = {}
+    sources: dict[str, SourceRef] = {}
+    findings: list[Finding] = []
+    for display, text in _texts(paths, display_dir, findings):
         for lineno, raw in enumerate(text.splitlines(), start=1):
             code = split_comment(raw)[0].strip()
             if not code or code.startswith("%") or code.upper() in _END:

@@ -14,6 +14,14 @@ Y for G18, X for G19; program coordinates, mm, the drill toward −normal):
   dwells DTS seconds and returns at rapid to the last depth less an anticipation distance
   (0.6 mm up to 30 mm depth, else depth/50, at most 7 mm). DTB dwells at the final depth.
 
+SINUMERIK Operate appends parameters: CYCLE81/82(…, DTB, GMODE, DMODE, AMODE) (CYCLE81 gets
+the dwell DTB too) and CYCLE83(…, VARI, _AXN, _MDEP, _VRT, _DTD, _DIS1, GMODE, DMODE, AMODE):
+_MDEP is the smallest stroke (the degression by DAM stops there instead of at DAM), _VRT the
+chip-breaking back-off (0: 1 mm), _DTD the dwell at the final depth (0: DTB), _DIS1 the
+anticipation distance (0: as above). DMODE and AMODE record how the input screen showed the
+values and change nothing here; GMODE=1 (depth to the drill's diameter), an _AXN other than
+the plane's normal and dwells in revolutions (negative) are ``unsupported``.
+
 Hole patterns position the tool (rapid, in the plane, at the current height) at each hole and
 run the modal drilling cycle (``MCALL``) there:
 
@@ -37,11 +45,14 @@ from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
 
-CYCLES = {
-    "CYCLE81": ("RTP", "RFP", "SDIS", "DP", "DPR"),
-    "CYCLE82": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB"),
-    "CYCLE83": ("RTP", "RFP", "SDIS", "DP", "DPR", "FDEP", "FDPR", "DAM", "DTB", "DTS", "FRF", "VARI"),
+CYCLES = {      # the classic lists, then what SINUMERIK Operate appends
+    "CYCLE81": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "GMODE", "DMODE", "AMODE"),
+    "CYCLE82": ("RTP", "RFP", "SDIS", "DP", "DPR", "DTB", "GMODE", "DMODE", "AMODE"),
+    "CYCLE83": ("RTP", "RFP", "SDIS", "DP", "DPR", "FDEP", "FDPR", "DAM", "DTB", "DTS", "FRF", "VARI",
+                "AXN", "MDEP", "VRT", "DTD", "DIS1", "GMODE", "DMODE", "AMODE"),
 }
+#: the tool axis _AXN names (1, 2, 3: the first, second, third geometry axis) for each plane
+PLANE_AXN = {"G17": 3, "G18": 2, "G19": 1}
 PATTERNS = {
     "HOLES1": ("SPCA", "SPCO", "STA1", "FDIS", "DBH", "NUM"),
     "HOLES2": ("CPA", "CPO", "RAD", "STA1", "INDA", "NUM"),
@@ -85,15 +96,33 @@ def drill(machine, name: str, args, src: SourceRef) -> None:
                            f"plane RFP {rfp:g}", src, depth=depth, rfp=rfp)
     if machine.feed <= 0:
         raise ProgramError("zero_feed", f"{name}: drilling with F0 (no feed programmed)", src)
+    _operate(machine, name, p, src)
     go = _Mover(machine, src)
     go.rapid(rfp + sdis)
     if name == "CYCLE83":
         _strokes(go, p, rfp, sdis, depth, scale, machine.feed, name, src)
     else:
         go.feed(depth, machine.feed)
-    if p.get("DTB", 0.0) > 0:
-        machine.sink.append(canon.Dwell(src, seconds=p["DTB"]))
+    dwell = p["DTD"] if name == "CYCLE83" and p["DTD"] > 0 else p["DTB"]
+    if dwell > 0:
+        machine.sink.append(canon.Dwell(src, seconds=dwell))
     go.rapid(rtp)
+
+
+def _operate(machine, name: str, p: dict[str, float], src: SourceRef) -> None:
+    """Refuse what SINUMERIK Operate's parameters ask that vmach does not simulate: a depth to
+    the drill's diameter (GMODE=1, centering), a tool axis other than the plane's normal
+    (_AXN), a dwell in revolutions (DTB < 0). DMODE and AMODE say how the values were entered in
+    the input screen (display, absolute or incremental entry); DP and DPR carry the depth."""
+    why = None
+    if p["GMODE"] not in (0, -0.0):
+        why = f"GMODE={p['GMODE']:g} (the depth to the drill's diameter)"
+    elif p.get("AXN", 0) and p["AXN"] != PLANE_AXN.get(machine.plane):
+        why = f"_AXN={p['AXN']:g} (a tool axis other than the working plane's normal)"
+    elif p["DTB"] < 0 or p.get("DTD", 0) < 0:
+        why = "a dwell in revolutions (DTB < 0)"
+    if why is not None:
+        raise ProgramError("unsupported", f"{name}: {why} is not simulated", src)
 
 
 def _strokes(go, p, rfp, sdis, depth, scale, feed, name, src) -> None:
@@ -108,9 +137,11 @@ def _strokes(go, p, rfp, sdis, depth, scale, feed, name, src) -> None:
     if inc <= 0:
         raise ProgramError("cycle_parameter", f"{name}: the first depth is not below RFP", src)
     dam = abs(p["DAM"]) * scale
+    least = abs(p["MDEP"]) * scale if p["MDEP"] else dam     # the smallest stroke
     frf = p["FRF"] if 0 < p["FRF"] <= 1 else 1.0
     total = rfp - depth
-    lead = 0.6 if total <= 30 else min(total / 50.0, 7.0)
+    lead = abs(p["DIS1"]) * scale if p["DIS1"] else 0.6 if total <= 30 else min(total / 50.0, 7.0)
+    back = abs(p["VRT"]) * scale if p["VRT"] else 1.0
     z = rfp
     for stroke in range(MAX_STROKES):
         target = max(z - inc, depth)
@@ -124,9 +155,9 @@ def _strokes(go, p, rfp, sdis, depth, scale, feed, name, src) -> None:
                 go.machine.sink.append(canon.Dwell(src, seconds=p["DTS"]))
             go.rapid(min(z + lead, rfp + sdis))
         else:
-            go.rapid(z + 1.0)
+            go.rapid(z + back)
         if dam > 0:
-            inc = inc - dam if inc - dam > dam else dam
+            inc = inc - dam if inc - dam > least else least
     raise ProgramError("cycle_parameter", f"{name}: more than {MAX_STROKES} strokes", src)
 
 

@@ -22,20 +22,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from interpreters.sinumerik import sysvars
+from interpreters.sinumerik import strfuncs, sysvars
+from interpreters.sinumerik.errors import EvalError
+from interpreters.sinumerik.language import UNSUPPORTED_FUNCTIONS
 from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token
 from vmach.tol import tol
 
 Value = float | int | str | bool
-
-
-class EvalError(Exception):
-    """A runtime error inside an expression; the executor adds the source position."""
-
-    def __init__(self, kind: str, message: str):
-        super().__init__(message)
-        self.kind = kind
-        self.message = message
 
 
 class ParseError(Exception):
@@ -117,7 +110,10 @@ FUNCTIONS: dict[str, tuple[int, int]] = {
     "MAXVAL": (2, 2),
     "BOUND": (3, 3),
     "ISFILE": (1, 1),
+    "QU": (1, 1),
 }
+FUNCTIONS.update({name: (lo, hi) for name, (lo, hi, _) in strfuncs.PURE.items()})
+FUNCTIONS.update(strfuncs.STATEFUL)
 #: frame functions (their arguments are axis names and values; see sysframes.py)
 FRAME_FUNCTIONS = frozenset({"CTRANS", "CROT", "CSCALE", "CMIRROR", "CFINE", "CRPL"})
 
@@ -233,10 +229,10 @@ class ExprParser:
             self.pos += 1
             args: list[Node] = []
             if not (self.tok.kind == OP and self.tok.text == ")"):
-                args.append(self.parse())
+                args.append(self._argument(name))
                 while self.tok.kind == OP and self.tok.text == ",":
                     self.pos += 1
-                    args.append(self.parse())
+                    args.append(self._argument(name))
             self.expect_op(")")
             lo, hi = FUNCTIONS[name]
             if not lo <= len(args) <= hi:
@@ -260,10 +256,22 @@ class ExprParser:
             return self.system(t)
         if nxt.kind == OP and nxt.text == "(" and name in FRAME_FUNCTIONS:
             return self.frame_function(t)
+        if nxt.kind == OP and nxt.text == "(" and name in UNSUPPORTED_FUNCTIONS:
+            raise ParseError("unsupported", f"the function {name} is not simulated by vmach", t.col)
         if nxt.kind == OP and nxt.text == "(":
             raise ParseError("unknown_word", f"unknown function {name}", t.col)
         raise ParseError("undefined_variable", f"{name} is not defined (DEF) before use", t.col)
 
+
+    def _argument(self, function: str) -> Node:
+        """One argument of a function call; an axis written bare (``AXSTRING(X)``) is its name."""
+        it = self.tok
+        if (function in strfuncs.AXIS_ARGUMENT and it.kind == IDENT and not self.is_variable(it.text)
+                and it.text not in CONSTANTS and self.pos + 1 < len(self.toks)
+                and self.toks[self.pos + 1].text == ")"):
+            self.pos += 1
+            return Node("str", it.col, it.text)
+        return self.parse()
 
     def system(self, t: Token) -> Node:
         """A system variable (``$P_EP[X]``, ``$P_UIFR[1, X, TR]``): Node("sys", name, indices).
@@ -280,7 +288,8 @@ class ExprParser:
                 after = self.toks[self.pos + 1] if self.pos + 1 < len(self.toks) else it
                 if (it.kind == IDENT and after.kind == OP and after.text in ("]", ",")
                         and not self.is_variable(it.text) and it.text not in CONSTANTS
-                        and not (it.text[0] == "R" and it.text[1:].isdigit())):
+                        and not (it.text[0] == "R" and it.text[1:].isdigit())
+                        and it.text[0] != "$"):     # a system variable is read: $TC_DP6[$P_TOOLNO, 1]
                     self.pos += 1
                     idx.append(Node("str", it.col, it.text))
                 else:
@@ -513,7 +522,9 @@ FUNC_IMPL: dict[str, Callable[..., Any]] = {
     "BOUND": _bound,
     "LN": _ln,
     "EXP": _exp,
+    "QU": lambda x: x,      # M=QU(8): a quick auxiliary-function output, the value itself
 }
+FUNC_IMPL.update({name: impl for name, (_, _, impl) in strfuncs.PURE.items()})
 
 
 _HUGE = 1.7e308
@@ -608,6 +619,8 @@ def compile_expr(node: Node, env: Env) -> Callable[[], Any]:
     if op == "call" and node.value == "ISFILE":    # the run's sandbox: never folded
         fa = compile_expr(node.args[0], env)
         return lambda: env.files is not None and env.files.exists(fa())
+    if op == "call" and node.value in strfuncs.STATEFUL:    # the run's state: never folded
+        return strfuncs.compile_call(node.value, [compile_expr(a, env) for a in node.args], env)
     if op == "call":
         impl = FUNC_IMPL[node.value]
         fs = [compile_expr(a, env) for a in node.args]

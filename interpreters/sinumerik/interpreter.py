@@ -65,7 +65,7 @@ def read_program(path: Path, display: str, control: ControlSpec, text: str | Non
     text = decode_text(read_program_bytes(path, display)) if text is None else text
     main, others, notes = archive.split(text, display)
     program = parse_program(main, display, control, program_names(path.resolve().parent) | frozenset(others),
-                            known=gud.variables)
+                            known=gud.variables, known_macros=gud.macros)
     findings = notes + list(program.findings) + analyse(program)
     return Loaded(program, findings, archive=others)
 

@@ -30,7 +30,7 @@ import re
 from collections.abc import Callable
 from typing import Any
 
-from interpreters.sinumerik import sysframes
+from interpreters.sinumerik import nckclock, sysframes
 from interpreters.sinumerik.expr import EvalError
 from interpreters.sinumerik.frames import Matrix
 from interpreters.sinumerik.nckclock import Clock
@@ -87,6 +87,7 @@ class Nck:
             "$P_EP": lambda v, i: self._work(i[0]), "$P_F": lambda v, i: self._feed(),
             "$P_S": lambda v, i: machine.spindles.get(i[0] if i else machine.master, [0.0])[0],
             "$P_SEARCH": _zero, "$P_PROG_EVENT": _zero, "$P_DRYRUN": _zero, "$P_ISTEST": _zero,
+            "$P_SEARCHL": _zero,
             "$P_SUBPAR": lambda v, i: int(self.passed(i[0])),
             "$P_AXN1": lambda v, i: machine.geometry[0], "$P_AXN2": lambda v, i: machine.geometry[1],
             "$P_AXN3": lambda v, i: machine.geometry[2], "$P_MSNUM": lambda v, i: machine.master,
@@ -219,6 +220,10 @@ class Nck:
             return self.machine.master
         if name in ("$AC_CYCLE_TIME", "$AC_OPERATING_TIME"):
             return self.clock.now()
+        if name in nckclock.CALENDAR:
+            return nckclock.calendar(name, self.clock.now())
+        if name in nckclock.POWER_ON:
+            return self.clock.now() / 60.0
         if name == "$AC_CUTTING_TIME":
             self.clock.now()
             return self.clock.cutting

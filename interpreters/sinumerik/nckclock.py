@@ -6,19 +6,33 @@ revolution of the master spindle, inverse time), rapids at each axis' ``$MA_MAX_
 slowest axis decides; the control's default 10 m/min where the model gives none), dwells for
 their time or spindle revolutions. No acceleration, no tool change times: the motion planner's
 cycle time (``vmach.motion``) is the precise figure; this one lets a warm-up program that waits
-on ``$AC_TIMER`` end as it does on the machine. Read lazily: the commands are scanned only when
-a timer is read, so a program that reads none pays nothing.
+on ``$AC_TIMER`` — or on the control's clock (``$A_MINUTE`` …, which runs from a fixed start,
+2000-01-01 00:00:00, by the same estimate) — end as it does on the machine. Read lazily: the
+commands are scanned only when a timer is read, so a program that reads none pays nothing.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from datetime import datetime, timedelta
 from typing import Any
 
 from vmach import canon
 
 DEFAULT_RAPID = 10000.0       # MD32000 MAX_AX_VELO default, mm/min
+#: the instant a run starts at (its control's clock, ``$A_YEAR`` …): fixed, so a run is reproducible
+START = datetime(2000, 1, 1)
+CALENDAR = ("$A_YEAR", "$A_MONTH", "$A_DAY", "$A_HOUR", "$A_MINUTE", "$A_SECOND", "$A_MSECOND")
+#: minutes since the control was switched on: the run starts with it
+POWER_ON = ("$AN_SETUP_TIME", "$AN_POWERON_TIME")
+
+
+def calendar(name: str, seconds: float) -> int:
+    """The control's clock variable ``name`` ``seconds`` of machining time after START."""
+    t = START + timedelta(seconds=seconds)
+    return {"$A_YEAR": t.year, "$A_MONTH": t.month, "$A_DAY": t.day, "$A_HOUR": t.hour,
+            "$A_MINUTE": t.minute, "$A_SECOND": t.second, "$A_MSECOND": t.microsecond // 1000}[name]
 
 
 class Clock:

@@ -10,7 +10,7 @@ import difflib
 import math
 import re
 
-from interpreters.sinumerik import arrays, commands, sysvars
+from interpreters.sinumerik import arrays, commands, macros, sysvars
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
@@ -237,9 +237,15 @@ class BlockParser:
             block.kind = "nc"
             block.items.append(b.Keyword(t.col, "RET"))
             self.expect_end("RET")
+        elif name == "CALL" and self.tok.kind == IDENT and self.tok.text == "BLOCK":
+            self.pos += 1
+            self.call_block(block)
         elif name in ("CALL", "EXTCALL", "PCALL"):
             block.kind = "nc"
             block.items.append(commands.program_call(self, t))
+            if self.tok.kind == IDENT and self.tok.text == "BLOCK":
+                self.fail("unsupported", "CALL \"NAME\" BLOCK …: a section of another program is not "
+                          "simulated")
             self.expect_end(name)
         elif name == "EXTERN":
             block.kind = "empty"  # declaration of a subprogram's signature: nothing to run
@@ -263,6 +269,23 @@ class BlockParser:
         self.expect_end(name)
         block.kind = "section"
         block.section = (labels[0], labels[1] if len(labels) > 1 else None, count, name == "REPEATB")
+
+    def call_block(self, block: b.Block) -> None:
+        """``CALL BLOCK start TO end``: the section of this program from label ``start`` to label
+        ``end`` runs once, as ``REPEAT start end P=1`` does."""
+        labels = []
+        for k in range(2):
+            if self.tok.kind != IDENT:
+                self.fail("syntax", "CALL BLOCK needs a start and an end label: CALL BLOCK START TO END")
+            labels.append(self.tok.text)
+            self.pos += 1
+            if k == 0:
+                if not (self.tok.kind == IDENT and self.tok.text == "TO"):
+                    self.fail("syntax", "CALL BLOCK start TO end: TO expected")
+                self.pos += 1
+        self.expect_end("CALL BLOCK")
+        block.kind = "section"
+        block.section = (labels[0], labels[1], None, False)
 
     def jump(self) -> b.Jump:
         t = self.tok
@@ -675,6 +698,9 @@ class BlockParser:
                 self.pos += 1
                 rpl = self.expr()
                 continue
+            if wt.text == "AX" and self.is_op("["):     # ATRANS AX[X]=10, AX[variable]=...
+                words.append(commands.axis_address(self, wt))
+                continue
             if wt.text in ("AP", "RP") and t.text in POLES and self.is_op("="):
                 self.pos += 1
                 words.append(b.Word(wt.col, wt.text, "polar", self.expr()))
@@ -717,13 +743,14 @@ def _machine_code(name: str) -> Code:
 
 def parse_program(
     text: str, path: str, control: ControlSpec, programs: frozenset[str] = frozenset(),
-    known: dict | None = None,
+    known: dict | None = None, known_macros: dict[str, str] | None = None,
 ) -> b.Program:
     """Parse a whole program; never raises for bad text (findings collect the problems).
     ``programs``: the names of the programs beside it (``NAME`` of ``NAME.SPF``), which words
     without separators do not split. ``known``: variables defined before the program (global
-    user data, ``definitions.py``)."""
+    user data, ``definitions.py``); ``known_macros``: macros of the macro files (name -> text)."""
     lines = text.splitlines()
+    table = dict(known_macros or {})
     grammar = Grammar(control, programs)
     variables: dict = dict(known or {})
     blocks: list[b.Block] = []
@@ -733,6 +760,10 @@ def parse_program(
         code, _comment = split_comment(raw)
         if not code.strip():
             continue
+        if (defined := macros.definition(code)) is not None:
+            table[defined[0]] = defined[1]
+            continue
+        code = macros.expand(code, table)
         src = SourceRef(path, lineno, 1, raw)
         block = b.Block(index=len(blocks), line=lineno, text=raw)
         parser = BlockParser(grammar, variables, src)

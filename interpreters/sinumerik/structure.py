@@ -95,10 +95,11 @@ def analyse(program: Program) -> list[Finding]:
             prev = program.labels.setdefault(blk.label, [])
             if prev:
                 first = blocks[prev[0]]
-                out.append(
-                    error(
+                out.append(     # no alarm on the control: a jump takes the first in its direction
+                    warning(
                         "duplicate_label",
-                        f"label {blk.label} is already defined at line {first.line}",
+                        f"label {blk.label} is already defined at line {first.line}; a jump "
+                        "lands on the nearest one in its search direction",
                         src(program, blk, blk.label_col),
                         first_line=first.line,
                     )
@@ -297,6 +298,8 @@ def successors(program: Program, i: int) -> list[int]:
             t = find_target(program, i, blk.default)
             return tg + ([t] if t is not None else nxt)
         return tg + nxt
+    if k == "section" and blk.section is not None:   # REPEAT / CALL BLOCK: the section runs first
+        return sorted(program.labels.get(blk.section[0], [])) + nxt
     return nxt
 
 

@@ -27,7 +27,6 @@ def test_clean_program_has_no_findings(tmp_path):
         ("HERE: G0 X1\nGOTOF HERE\nM30\n", [("jump_direction", 2, 7)]),
         ("GOTOB THERE\nTHERE: M30\n", [("jump_direction", 1, 7)]),
         ("GOTOF N99\nN50 M30\n", [("undefined_label", 1, 7)]),
-        ("AA: G0 X1\nAA: G0 X2\nM30\n", [("duplicate_label", 2, 1)]),
         ("N20 G0 X1\nN10 G0 X2\nM30\n", [("block_number_order", 2, 1)]),
         ("IF R1>0\nG0 X1\nM30\n", [("unbalanced_block", 1, 1)]),
         ("G0 X1\nENDWHILE\nM30\n", [("unbalanced_block", 2, 1)]),

@@ -72,3 +72,43 @@ def test_a_bad_initial_value_stops_the_run_at_its_definition(tmp_path):
     r = run(tmp_path, "M30\n", _N_GUD5_DEF="DEF NCK REAL Q=1/0\n")
     f = error_of(r)
     assert (f.kind, Path(f.source.path).name, f.line) == ("division_by_zero", "_N_GUD5_DEF", 1)
+
+
+def test_definition_files_named_by_the_machine_or_the_setup(tmp_path):
+    # a machine maker keeps its GUD under its own name; the model (or vmach.toml) names it,
+    # and it is read from the program's directory (or below) only
+    from dataclasses import replace
+
+    (tmp_path / "GUD").mkdir()
+    (tmp_path / "GUD" / "MAKER.DEF").write_text("DEF NCK REAL TC_Z=-20\nM30\n", encoding="utf-8")
+    control = replace(DEFAULT_CONTROL, definitions=("GUD/MAKER.DEF", "ABSENT.DEF"))
+    text = "G0 Z=TC_Z\nM30\n"
+    assert [m.axes["Z"] for m in moves(ok(tmp_path, text, control))] == [-20.0]
+    assert check(tmp_path, text, control) == []
+    assert kinds(check(tmp_path, text)) == [("undefined_variable", 1)]
+    job = linked_from_outside(tmp_path, "OUT.DEF", "DEF NCK REAL TC_Z=-5\n")
+    outside = replace(DEFAULT_CONTROL, definitions=("OUT.DEF",))
+    r = run(job, text, outside)
+    assert ("file_outside", 1) in kinds(r.findings) and not r.completed
+
+
+def test_the_setup_file_names_definition_files_inside_its_directory(tmp_path):
+    import pytest
+
+    from vmach.errors import InputError
+    from vmach.setup import control_for
+
+    job = tmp_path / "job"
+    job.mkdir()
+    for d in (tmp_path, job):
+        (d / "MAKER.DEF").write_text("DEF NCK INT TOOLS=3\n", encoding="utf-8")
+    prog = job / "P.MPF"
+    prog.write_text("R1=TOOLS\nM30\n", encoding="utf-8")
+    (job / "vmach.toml").write_text('definitions = ["MAKER.DEF"]\n', encoding="utf-8")
+    control, _ = control_for(prog, "mill3")
+    assert control.definitions == ("MAKER.DEF",)
+    assert sinumerik.run(prog, control, RunOptions()).completed
+    (job / "vmach.toml").write_text('definitions = ["../MAKER.DEF"]\n', encoding="utf-8")
+    with pytest.raises(InputError) as exc:
+        control_for(prog, "mill3")
+    assert (exc.value.kind, exc.value.source.line) == ("file_outside", 1)

@@ -69,7 +69,7 @@ def test_the_cycle_drills_along_the_planes_normal(tmp_path):
 @pytest.mark.parametrize("call, kind", [
     ("CYCLE81(10, 0, 2, 5)", "cycle_parameter"),          # depth above the reference plane
     ("CYCLE81(10, 0, 2)", "cycle_parameter"),             # no depth
-    ("CYCLE81(10, 0, 2, -5, 0, 1)", "call_arguments"),
+    ("CYCLE81(10, 0, 2, -5, 0, 1, 0, 0, 0, 1)", "call_arguments"),   # Operate's list has 9
     ('CYCLE81(10, 0, "A", -5)', "type_error"),
 ])
 def test_bad_cycle_parameters_are_errors_at_the_call(tmp_path, call, kind):

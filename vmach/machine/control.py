@@ -9,6 +9,7 @@ Reads ``[control]`` and ``[[axes]]`` of a model file (see ``models/turnmill.toml
     gcodes = ["G971"]              # machine-specific G codes
     spindles = [1, 2]
     master_spindle = 1
+    definitions = ["MAKER_GUD.DEF"]  # GUD files besides _N_SGUD_DEF …, read beside the program
 
     [[axes]]
     name = "C1"
@@ -231,6 +232,10 @@ def collect_control(
             bad(("control", key), f"control.{key} must be a list of names", "bad_value")
             raw = ()
         names[key] = frozenset(v.upper() for v in raw)
+    definitions = ctl.get("definitions", ())
+    if not isinstance(definitions, list | tuple) or not all(isinstance(v, str) and v for v in definitions):
+        bad(("control", "definitions"), "control.definitions must be a list of file names", "bad_value")
+        definitions = ()
     spec = ControlSpec(
         axes=tuple(axes),
         geometry=tuple(str(g) for g in geometry),  # type: ignore[arg-type]
@@ -242,6 +247,7 @@ def collect_control(
         spindles=spindles,
         master_spindle=master,
         dialect=dialect,
+        definitions=tuple(definitions),
     )
     return spec, problems
 
