@@ -51,7 +51,10 @@ class Path:
         return dict(m.pos)
 
     def rapid(self, a=None, b=None, n=None) -> None:
-        self.machine.sink.append(canon.Traverse(self.src, axes=self._target(a, b, n)))
+        before = dict(self.machine.pos)
+        axes = self._target(a, b, n)
+        if axes != before:
+            self.machine.sink.append(canon.Traverse(self.src, axes=axes))
 
     def feed(self, f: float, a=None, b=None, n=None) -> None:
         self.machine.sink.append(canon.LinearFeed(self.src, axes=self._target(a, b, n), feed=f))
