@@ -219,3 +219,30 @@ def test_inch_programs_are_converted(tmp_path):
     arcs = [m for m in ms if isinstance(m, ArcFeed)]
     assert max(math.dist((m.axes["X"], m.axes["Y"]), m.center) for m in arcs) == pytest.approx(25.4 - 5)
     assert min(m.axes["Z"] for m in ms) == pytest.approx(-0.2 * 25.4)
+
+
+def test_what_is_not_simulated_is_said_once_at_the_first_call(tmp_path):
+    call = "CYCLE86(10, 0, 2, -8, , 0, 3, 0.5)"
+    text = HEAD + f"{call}\nX20\n{call}\nM30\n"
+    r = run(tmp_path, text, options=R5)
+    assert r.completed
+    notes = [(f.kind, f.severity, f.line) for f in r.findings if f.kind == "cycle_simplified"]
+    assert notes == [("cycle_simplified", "info", 4)]
+    # the bar retracts on its axis: every move of the cycle at X0 Y0
+    assert all((m.axes["X"], m.axes["Y"]) == (0, 0) for m in moves(r) if m.source.line == 4)
+
+
+def test_cycles_work_in_the_plane_selected_and_under_a_rotation(tmp_path):
+    """G19: the pocket lies in Y/Z and goes down along X; ROT RPL=90 turns the pocket's
+    length from X to Y (program coordinates through the frame)."""
+    r = run(tmp_path, "T1 D1\nG19 G90 G0 X50 Y0 Z0\nF300\nPOCKET4(10, 0, 2, -5, 20, 30, 40, 5)\nM30\n",
+            options=R5)
+    ms = [m for m in moves(r) if m.source.line == 4]
+    arcs = [m for m in ms if isinstance(m, ArcFeed)]
+    assert arcs and all(m.plane == ("Y", "Z", "X") and m.center == (30, 40) for m in arcs)
+    assert min(m.axes["X"] for m in ms) == pytest.approx(-5)
+    call = "POCKET3(10, 0, 2, -3, 40, 20, 5, 0, 0, 0, 3, 0, 0, 600, 200, 0, 1, 8)"
+    r = run(tmp_path, HEAD + f"ROT RPL=90\n{call}\nM30\n", options=R5)
+    cut = [m for m in moves(r) if m.source.line == 5 and not isinstance(m, Traverse)]
+    assert max(m.axes["Y"] for m in cut) == pytest.approx(15)
+    assert max(m.axes["X"] for m in cut) == pytest.approx(5)

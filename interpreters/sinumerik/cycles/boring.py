@@ -53,8 +53,9 @@ def bore(ctx: Context) -> None:
         return
     _spindle(ctx, "stop")
     if name == "CYCLE86":
-        # the lift-off in the plane (RPA, RPO) is not moved: vmach's tools are solids of
-        # revolution, and a bar lifted off its wall would cut it (DEVIATIONS.md)
+        if c["RPA"] or c["RPO"] or c["RPAP"]:
+            ctx.simplified("the lift-off (RPA, RPO, RPAP) is not moved: vmach's tools are solids of "
+                           "revolution, a bar lifted off its wall would cut it; it retracts on its axis")
         ctx.retract(h)
     else:
         ctx.machine.sink.append(canon.Pause(p.src))

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from interpreters.sinumerik.cycles.parameters import Call
 from interpreters.sinumerik.cycles.path import Path
 from vmach.errors import ProgramError
+from vmach.findings import info
 from vmach.source import SourceRef
 
 #: most depth levels, rings or passes one cycle call may make (a tiny MID must be an error)
@@ -95,6 +96,14 @@ class Context:
         """Up to the retraction plane at rapid."""
         self.path.phase("retraction")
         self.path.rapid(n=max(h.rtp, h.safe))
+
+    def simplified(self, what: str) -> None:
+        """Say once per cycle and run (an ``info`` ``cycle_simplified`` at the first call) what
+        of the cycle vmach does not simulate as the control runs it."""
+        message = f"{self.name}: {what}"
+        notes = self.machine.notes
+        if not any(f.kind == "cycle_simplified" and f.message == message for f in notes):
+            notes.append(info("cycle_simplified", message, self.src, cycle=self.name))
 
     def count(self, n: int, what: str) -> None:
         if n > MAX_STEPS:

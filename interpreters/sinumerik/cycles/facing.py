@@ -44,6 +44,8 @@ def face(ctx: Context) -> None:
                        mida=mida, tool_diameter=2 * r)
     fdp, fdp1 = abs(ctx.mm("FDP")), abs(ctx.mm("FDP1")) if "FDP1" in c.values else 0.0
     f = ctx.feed("FFP1")
+    if "LIM" in c.values and c["LIM"]:
+        ctx.simplified("the limits (_LIM) are not simulated: the area is faced to its corners")
     along = way in (1, 3)                        # passes along the length
     lo_a, hi_a = sorted((0.0, length))
     lo_b, hi_b = sorted((0.0, width))

@@ -94,6 +94,9 @@ def _mill(ctx: Context, h, r: float, ring, centre, angle: float) -> None:
         raise ctx.fail(f"VARI {vari} is no machining type of the cycle", vari=vari)
     f_plane = ctx.feed("FFP1")
     f_depth = ctx.feed("FFD", "FFP1")
+    if c["AP1"] or c["AD"]:
+        ctx.simplified("the pre-machined pocket (AP1, AP2, AD) is not used: the rings start at the "
+                       "centre and pass through its air")
     if unit == 1:
         loops, half = ring(abs(ctx.mm("FAL")))
         depths = levels(h.rfp, h.depth + abs(ctx.mm("FALD")), abs(ctx.mm("MID")))

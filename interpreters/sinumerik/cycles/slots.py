@@ -113,6 +113,8 @@ def _slots(ctx: Context, r: float, width: float, feats) -> None:
     if wall - fal < -TINY:
         raise ctx.fail(f"the finishing allowance {fal:g} leaves no room for the tool", fal=fal)
     f_depth, f_plane = ctx.feed("FFD", "FFP1"), ctx.feed("FFP1")
+    if "STA2" in c.values and c["STA2"]:
+        ctx.simplified("oscillating insertion (_STA2) is not simulated: the tool inserts vertically at FFD")
     f_finish = ctx.feed("FFP2", "FFP1")
     cw = c["CDIR"] == 2
     rough = levels(h.rfp, h.depth + fald, abs(ctx.mm("MID"))) if vari in (0, 1) else []
