@@ -16,18 +16,10 @@ from catalog import FIXTURES
 
 from vmach.cli import main
 
-TOOLS = """
-[[tool]]
-name = "EM10"
-type = "flat"
-diameter = 10.0
-cutting_length = 20.0
-shank = { diameter = 10.0, length = 30.0 }
-holder = { diameter = 30.0, length = 40.0 }
-[tool.d.1]
-length = 0.0
-radius = 5.0
-"""
+#: a Ø10 end mill, 22 mm flutes, in a Ø32 holder
+TOOLS = ('[[tool]]\nname = "EM10"\ntype = "flat"\ndiameter = 10.0\ncutting_length = 22.0\n'
+         'shank = { diameter = 10.0, length = 28.0 }\nholder = { diameter = 32.0, length = 45.0 }\n'
+         'd = { 1 = { radius = 5.0, length = 0.0 } }\n')
 #: the tool polygon's bound on sides (mm), and on flat faces
 SIDE, FLAT = 0.011, 1e-6
 

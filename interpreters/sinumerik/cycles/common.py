@@ -3,10 +3,11 @@ the tool radius, the approach to and the retraction from the work."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from interpreters.sinumerik.cycles.parameters import Call
-from interpreters.sinumerik.cycles.path import Path
+from interpreters.sinumerik.cycles.path import TINY, Path
 from vmach.errors import ProgramError
 from vmach.findings import info
 from vmach.source import SourceRef
@@ -104,6 +105,17 @@ class Context:
         notes = self.machine.notes
         if not any(f.kind == "cycle_simplified" and f.message == message for f in notes):
             notes.append(info("cycle_simplified", message, self.src, cycle=self.name))
+
+    def rectangle(self, what: str) -> tuple:
+        """A rectangular pocket's or spigot's LENG, WID, CRAD (mm), its centre (PA, PO) and the
+        angle STA (radians); ``cycle_parameter`` for no size or a corner radius of more than
+        half the width."""
+        length, width, crad = abs(self.mm("LENG")), abs(self.mm("WID")), abs(self.mm("CRAD"))
+        if length <= 0 or width <= 0:
+            raise self.fail(f"give the {what}'s length and width", leng=length, wid=width)
+        if crad > min(length, width) / 2 + TINY:
+            raise self.fail(f"the corner radius {crad:g} is more than half the width", crad=crad)
+        return length, width, crad, (self.mm("PA"), self.mm("PO")), math.radians(self.call["STA"])
 
     def count(self, n: int, what: str) -> None:
         if n > MAX_STEPS:

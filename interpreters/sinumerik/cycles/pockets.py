@@ -32,15 +32,10 @@ def rectangular(ctx: Context) -> None:
     c = ctx.call
     h = ctx.heights(relative=False)
     r = ctx.tool_radius()
-    length, width, crad = abs(ctx.mm("LENG")), abs(ctx.mm("WID")), abs(ctx.mm("CRAD"))
-    if length <= 0 or width <= 0:
-        raise ctx.fail("give the pocket's length and width", leng=length, wid=width)
-    if crad > min(length, width) / 2 + TINY:
-        raise ctx.fail(f"the corner radius {crad:g} is more than half the width", crad=crad)
+    length, width, crad, centre, angle = ctx.rectangle("pocket")
     if crad < r - TINY:
         raise ctx.fail(f"the tool radius {r:g} is larger than the corner radius {crad:g}",
                        tool_radius=r, crad=crad)
-    centre, angle = (ctx.mm("PA"), ctx.mm("PO")), math.radians(c["STA"])
     cw = clockwise(c["CDIR"], inside=True)
 
     def ring(allow: float):

@@ -15,10 +15,8 @@ The depth is RFP − DPR when DPR is given (not 0), else DP. Phases as the pocke
 
 from __future__ import annotations
 
-import math
-
 from interpreters.sinumerik.cycles.common import Context, clockwise
-from interpreters.sinumerik.cycles.path import TINY, circle, levels, place, rounded_rect, steps
+from interpreters.sinumerik.cycles.path import circle, levels, place, rounded_rect, steps
 
 
 def rectangular(ctx: Context) -> None:
@@ -26,12 +24,7 @@ def rectangular(ctx: Context) -> None:
     c = ctx.call
     h = ctx.heights()
     r = ctx.tool_radius()
-    length, width, crad = abs(ctx.mm("LENG")), abs(ctx.mm("WID")), abs(ctx.mm("CRAD"))
-    if length <= 0 or width <= 0:
-        raise ctx.fail("give the spigot's length and width", leng=length, wid=width)
-    if crad > min(length, width) / 2 + TINY:
-        raise ctx.fail(f"the corner radius {crad:g} is more than half the width", crad=crad)
-    centre, angle = (ctx.mm("PA"), ctx.mm("PO")), math.radians(c["STA"])
+    length, width, crad, centre, angle = ctx.rectangle("spigot")
     blank = (abs(ctx.mm("AP1")) or length + 4 * r, abs(ctx.mm("AP2")) or width + 4 * r)
     if blank[0] < length or blank[1] < width:
         raise ctx.fail("the blank (AP1, AP2) is smaller than the spigot", ap1=blank[0], ap2=blank[1])
