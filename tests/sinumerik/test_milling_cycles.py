@@ -15,6 +15,7 @@ from interpreters.sinumerik.language import COMMANDS
 from vmach.canon import ArcFeed, Dwell, LinearFeed, Pause, RunOptions, Spindle, Traverse
 
 R5 = RunOptions(tool_radius=lambda tool, d: 5.0 if d == 1 else 3.0)
+TINY = "0.000000000001"  # MID, MIDA, _DAM that would make a trillion levels
 HEAD = "T1 D1\nG17 G90 G0 X0 Y0 Z50\nS1000 M3 F300\n"
 
 
@@ -186,7 +187,11 @@ def test_cycle87_and_88_stop_the_spindle_and_the_program(tmp_path):
     ("POCKET4(10, 0, 2, -5, 4, 50, 40)", "cycle_parameter"),                     # tool too large
     ("POCKET3(10, 0, 2, -6, 40, 24, 6, 30, 20, 0, 3, 0, 0, 600, 200, 0, 11)", "cycle_parameter"),  # no RAD1
     ("POCKET3(10, 0, 2, -6, 40, 24, 6, 30, 20, 0, 3, 0, 0, 600, 200, 0, 7)", "cycle_parameter"),   # VARI
-    ("POCKET3(10, 0, 2, -6, 40, 24, 6, 30, 20, 0, 0.000001)", "cycle_parameter"),  # MID: too many levels
+    (f"POCKET3(10, 0, 2, -6, 40, 24, 6, 30, 20, 0, {TINY})", "cycle_parameter"),
+    (f"POCKET4(10, 0, 2, -5, 20, 50, 40, 5, 0, 0, 600, 200, 0, 1, {TINY})", "cycle_parameter"),
+    (f"CYCLE71(10, 1, 2, 0, 0, 0, 100, 40, 0, 2, {TINY})", "cycle_parameter"),
+    (f"CYCLE84(10, 0, 2, -8, , 0, 3, 8, , 0, 200, 400, 0, 0, 0, 1, {TINY})", "cycle_parameter"),
+    ("SLOT1(10, 0, 2, -3, , 100000, 30, 16, 50, 40, 20)", "cycle_parameter"),                  # NUM
     ("CYCLE71(10, 1, 2, 0, 0, 0, 100, 40, 0, 2, 12)", "cycle_parameter"),          # MIDA > diameter
     ("SLOT1(10, 0, 2, -3, , 1, 30, 8)", "cycle_parameter"),                        # narrower than the tool
     ("CYCLE84(10, 0, 2, -8, , 0, 3, 7)", "cycle_parameter"),                       # M7 is no coarse thread

@@ -17,7 +17,9 @@ from __future__ import annotations
 from interpreters.sinumerik.cycles import boring, facing, pockets, slots, spigots
 from interpreters.sinumerik.cycles.common import Context
 from interpreters.sinumerik.cycles.parameters import SPECS, bind
+from interpreters.sinumerik.cycles.path import TooMany
 from interpreters.sinumerik.drilling import drill
+from vmach.errors import ProgramError
 from vmach.source import SourceRef
 
 _EXPAND = {
@@ -40,7 +42,10 @@ MODAL = frozenset(n for n, spec in SPECS.items() if spec.family == "boring")
 
 def run(machine, name: str, args, src: SourceRef) -> None:
     """Expand the call ``name(args)`` at the machine's current state into its moves."""
-    _EXPAND[name](Context(machine, bind(name, args, src), src))
+    try:
+        _EXPAND[name](Context(machine, bind(name, args, src), src))
+    except TooMany as e:
+        raise ProgramError("cycle_parameter", f"{name}: {e}", src) from None
 
 
 def modal(machine, src: SourceRef) -> None:

@@ -7,13 +7,10 @@ import math
 from dataclasses import dataclass
 
 from interpreters.sinumerik.cycles.parameters import Call
-from interpreters.sinumerik.cycles.path import TINY, Path
+from interpreters.sinumerik.cycles.path import MAX_STEPS, TINY, Path
 from vmach.errors import ProgramError
 from vmach.findings import info
 from vmach.source import SourceRef
-
-#: most depth levels, rings or passes one cycle call may make (a tiny MID must be an error)
-MAX_STEPS = 20_000
 
 
 @dataclass(frozen=True, slots=True)

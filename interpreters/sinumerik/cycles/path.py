@@ -17,6 +17,13 @@ from vmach.source import SourceRef
 
 #: segments below this length (mm) are left out of a loop
 TINY = 1e-9
+#: most depth levels or offsets one list may hold (a MID or MIDA of 1e-12 must be an error,
+#: not a list of a trillion levels)
+MAX_STEPS = 20_000
+
+
+class TooMany(ValueError):
+    """More than MAX_STEPS levels or offsets; the cycle reports it at its call."""
 
 
 class Path:
@@ -89,6 +96,8 @@ def levels(top: float, bottom: float, mid: float) -> list[float]:
     if span <= 0:
         return [bottom]
     n = 1 if mid <= 0 else max(1, math.ceil(span / mid - 1e-9))
+    if n > MAX_STEPS:
+        raise TooMany(f"more than {MAX_STEPS} depth levels")
     return [top - span * (k + 1) / n for k in range(n)]
 
 
@@ -97,6 +106,8 @@ def steps(span: float, step: float) -> list[float]:
     if span <= TINY:
         return [0.0]
     n = max(1, math.ceil(span / step - 1e-9))
+    if n > MAX_STEPS:
+        raise TooMany(f"more than {MAX_STEPS} rings or passes")
     return [span * k / n for k in range(n + 1)]
 
 
