@@ -62,8 +62,8 @@ class Finding:
             "column": None if self.source is None else self.source.column,
             "message": self.message,
         }
-        if self.source is not None and self.source.phase:
-            out["phase"] = self.source.phase
+        if getattr(self.source, "phase", ""):
+            out["phase"] = self.source.phase           # a standard cycle's part (PhasedRef)
         if self.move_index is not None:
             out["move_index"] = self.move_index
         if self.data:

@@ -21,28 +21,33 @@ class SourceRef:
         1-based column of the offending token (1 when the whole line is meant).
     text : str
         The whole source line without its newline, for the caret display.
-    phase : str
-        The part of a standard cycle called on this line that made the command ("roughing
-        depth 2 ring 3", "finishing"); empty outside cycles.
     """
 
     path: str
     line: int
     column: int = 1
     text: str = ""
-    phase: str = ""
 
     def at(self, column: int) -> SourceRef:
         """The same line, pointing at another 1-based column."""
-        return SourceRef(self.path, self.line, column, self.text, self.phase)
-
-    def in_phase(self, phase: str) -> SourceRef:
-        """The same place, made by the named part of the cycle called there."""
-        return SourceRef(self.path, self.line, self.column, self.text, phase)
+        return SourceRef(self.path, self.line, column, self.text)
 
     def location(self) -> str:
         """``path:line:col``."""
         return f"{self.path}:{self.line}:{self.column}"
+
+
+@dataclass(frozen=True, slots=True)
+class PhasedRef(SourceRef):
+    """A place in a program (a standard cycle's call) and the part of the cycle that made the
+    command: ``phase`` ("roughing depth 2/3 ring 4/6", "finishing", "approach"). Findings
+    show and report it; :class:`SourceRef` itself keeps its four fields (the RS274/NGC fast
+    path builds those by their slots)."""
+
+    phase: str = ""
+
+    def at(self, column: int) -> PhasedRef:
+        return PhasedRef(self.path, self.line, column, self.text, self.phase)
 
 
 def render(severity: str, kind: str, message: str, source: SourceRef | None) -> str:
@@ -54,7 +59,7 @@ def render(severity: str, kind: str, message: str, source: SourceRef | None) -> 
     if source is None:
         return f"vmach: {severity}[{kind}]: {message}"
     head = f"{source.location()}: {severity}[{kind}]: {message}"
-    if source.phase:
+    if getattr(source, "phase", ""):
         head += f" (in the cycle's {source.phase})"
     if not source.text:
         return head

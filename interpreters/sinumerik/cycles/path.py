@@ -13,7 +13,7 @@ import math
 
 from vmach import canon
 from vmach.errors import ProgramError
-from vmach.source import SourceRef
+from vmach.source import PhasedRef, SourceRef
 
 #: segments below this length (mm) are left out of a loop
 TINY = 1e-9
@@ -35,14 +35,15 @@ class Path:
         g = machine.geometry
         self.plane = machine.plane_axes
         self.ia, self.ib, self.inn = (g.index(n) for n in self.plane)
-        self.src = src
+        self.src = PhasedRef(src.path, src.line, src.column, src.text)
         frames = machine.frames
         if frames.rotated and not frames.similar(self.ia, self.ib):
             raise ProgramError("unsupported", "a cycle under a frame that scales the plane's axes "
                                "differently is not simulated", src)
 
     def phase(self, text: str) -> None:
-        self.src = self.call_src.in_phase(text)
+        s = self.call_src
+        self.src = PhasedRef(s.path, s.line, s.column, s.text, text)
 
     def here(self) -> tuple[float, float, float]:
         p = self.machine.program_point()
