@@ -251,3 +251,13 @@ def test_cycles_work_in_the_plane_selected_and_under_a_rotation(tmp_path):
     cut = [m for m in moves(r) if m.source.line == 5 and not isinstance(m, Traverse)]
     assert max(m.axes["Y"] for m in cut) == pytest.approx(15)
     assert max(m.axes["X"] for m in cut) == pytest.approx(5)
+
+
+def test_a_hole_pattern_runs_the_modal_boring_cycle_at_each_hole(tmp_path):
+    text = "MCALL CYCLE89(10, 0, 2, -6, , 0.2)\nHOLES2(50, 40, 20, 0, 90, 4)\nMCALL\nM30\n"
+    r = run(tmp_path, HEAD + text, options=R5)
+    assert r.completed
+    bottoms = [(round(m.axes["X"], 9), round(m.axes["Y"], 9)) for m in moves(r)
+               if isinstance(m, LinearFeed) and m.axes["Z"] == -6]
+    assert bottoms == [(70, 40), (50, 60), (30, 40), (50, 20)]
+    assert all(m.source.line == 5 for m in moves(r) if isinstance(m, LinearFeed))
