@@ -62,6 +62,8 @@ class Finding:
             "column": None if self.source is None else self.source.column,
             "message": self.message,
         }
+        if getattr(self.source, "phase", ""):
+            out["phase"] = self.source.phase           # a standard cycle's part (PhasedRef)
         if self.move_index is not None:
             out["move_index"] = self.move_index
         if self.data:

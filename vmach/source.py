@@ -37,6 +37,19 @@ class SourceRef:
         return f"{self.path}:{self.line}:{self.column}"
 
 
+@dataclass(frozen=True, slots=True)
+class PhasedRef(SourceRef):
+    """A place in a program (a standard cycle's call) and the part of the cycle that made the
+    command: ``phase`` ("roughing depth 2/3 ring 4/6", "finishing", "approach"). Findings
+    show and report it; :class:`SourceRef` itself keeps its four fields (the RS274/NGC fast
+    path builds those by their slots)."""
+
+    phase: str = ""
+
+    def at(self, column: int) -> PhasedRef:
+        return PhasedRef(self.path, self.line, column, self.text, self.phase)
+
+
 def render(severity: str, kind: str, message: str, source: SourceRef | None) -> str:
     """Render one diagnostic the way compilers do.
 
@@ -46,6 +59,8 @@ def render(severity: str, kind: str, message: str, source: SourceRef | None) -> 
     if source is None:
         return f"vmach: {severity}[{kind}]: {message}"
     head = f"{source.location()}: {severity}[{kind}]: {message}"
+    if getattr(source, "phase", ""):
+        head += f" (in the cycle's {source.phase})"
     if not source.text:
         return head
     text = source.text.expandtabs(1).rstrip("\r\n")

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import approach, sandbox
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik.cycles import NAMES as MILLING
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, Node, compile_expr
@@ -328,7 +329,7 @@ def not_found(name: str, how: str, programs, control) -> tuple[str, str]:
         return "unsupported", (f"{name} is a cycle of the control (Siemens, ShopMill/ShopTurn or the "
                                "machine maker's) that vmach does not simulate and that is not beside the "
                                "program")
-    pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *COMMANDS})
+    pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *MILLING, *COMMANDS})
     close = difflib.get_close_matches(name, pool, n=1, cutoff=0.75)
     hint = f"; did you mean {close[0]}?" if close else ""
     return "unknown_cycle", (f"{name} is no Sinumerik command, no cycle the machine declares and no "

@@ -161,8 +161,9 @@ def _strokes(go, p, rfp, sdis, depth, scale, feed, name, src) -> None:
     raise ProgramError("cycle_parameter", f"{name}: more than {MAX_STROKES} strokes", src)
 
 
-def pattern(machine, name: str, args, src: SourceRef) -> None:
-    """Position at each hole of a HOLES1/HOLES2 pattern, drilling with the modal cycle."""
+def pattern(machine, name: str, args, src: SourceRef, modal=None) -> None:
+    """Position at each hole of a HOLES1/HOLES2 pattern, drilling with the modal cycle
+    (``modal(machine, src)`` runs it; by default a drilling cycle of this module)."""
     p = parameters(name, args, src)
     n = p["NUM"]
     if n != int(n) or not 1 <= n <= MAX_HOLES:
@@ -187,7 +188,10 @@ def pattern(machine, name: str, args, src: SourceRef) -> None:
     for hole in holes:
         go.rapid_plane(hole)
         if machine.mcall is not None:
-            drill(machine, machine.mcall[0], machine.mcall[1], src)
+            if modal is not None:
+                modal(machine, src)
+            else:
+                drill(machine, machine.mcall[0], machine.mcall[1], src)
 
 
 class _Mover:

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from interpreters.sinumerik import circles, increments, polar, tracyl
+from interpreters.sinumerik import circles, cycles, increments, polar, tracyl
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
@@ -361,7 +361,9 @@ class Machine:
             if name in DRILLING:
                 drill(self, name, args, src)
             elif name in PATTERNS:
-                pattern(self, name, args, src)
+                pattern(self, name, args, src, cycles.modal)
+            elif name in cycles.NAMES:
+                cycles.run(self, name, args, src)
             elif name == "TRACYL":
                 out.append(tracyl.activate(self, args, src))
                 self.placeholders = True
@@ -570,7 +572,7 @@ class Machine:
             self.sink.append(cmd)
         self.pos = new
         if self.mcall is not None and not self.mcall_new:
-            drill(self, self.mcall[0], self.mcall[1], src)   # MCALL: after each positioning block
+            cycles.modal(self, src)   # MCALL: after each positioning block
 
     def tangent(self) -> tuple[float, float] | None:
         """Unit tangent (program plane) at the end of the last move in the plane: CT leaves

@@ -12,6 +12,8 @@ import re
 
 from interpreters.sinumerik import arrays, commands, macros, sysvars
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik.cycles import MODAL as MODAL_CYCLES
+from interpreters.sinumerik.cycles import NAMES as MILLING
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import FUNCTIONS, MAX_ARRAY_ELEMENTS, ExprParser, Node, ParseError
@@ -66,7 +68,7 @@ class Grammar:
         #: names read whole in words without separators (lexer.split_words): the language's
         #: words, the machine's axes, cycles and G codes, the programs beside this one
         self.names = frozenset().union(CODES, STATEMENTS, COMMANDS, UNSUPPORTED_WORDS, FUNCTIONS,
-                                       _BUILTINS, DRILLING, PATTERNS, self.axes, self.cycles,
+                                       _BUILTINS, DRILLING, PATTERNS, MILLING, self.axes, self.cycles,
                                        self.gcodes, programs)
 
     def is_axis(self, name: str) -> bool:
@@ -553,9 +555,9 @@ class BlockParser:
         if self.tok.kind == END:
             return b.Call(t.col, "MCALL", (), cycle=True)
         target = self.tok
-        if target.kind != IDENT or not self.is_op("(", 1) or target.text not in DRILLING:
-            self.fail("unsupported", "MCALL is simulated for the drilling cycles "
-                      f"({', '.join(sorted(DRILLING))}) only", target.col)
+        if target.kind != IDENT or not self.is_op("(", 1) or target.text not in {*DRILLING, *MODAL_CYCLES}:
+            self.fail("unsupported", "MCALL is simulated for the drilling, boring and tapping cycles "
+                      f"({', '.join(sorted({*DRILLING, *MODAL_CYCLES}))}) only", target.col)
         self.pos += 1
         call = self.call_with_args(target)
         return b.Call(t.col, f"MCALL {call.name}", call.args, cycle=True)
@@ -571,7 +573,7 @@ class BlockParser:
             if name == "SETMS" and len(args) > 1:
                 self.fail("syntax", "SETMS takes at most one spindle number", t.col)
             return b.Builtin(t.col, name, tuple(args))
-        standard = name in DRILLING or name in PATTERNS
+        standard = name in DRILLING or name in PATTERNS or (name in MILLING and name not in self.g.programs)
         return b.Call(t.col, name, tuple(args), cycle=name in self.g.cycles or standard)
 
     def arguments(self, loose: bool = False) -> tuple[Node | None, ...]:
