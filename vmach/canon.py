@@ -203,6 +203,76 @@ MOTIONS = (Traverse, LinearFeed, ArcFeed)
 
 
 @dataclass(frozen=True, slots=True)
+class Transformation(Command):
+    """A kinematic transformation the *machine side* carries out switched on or off.
+
+    name : ``"TRAORI"`` (the five-axis orientation transformation) or ``"TRAFOOF"`` (off).
+    number : the transformation's number (``TRAORI(2)``), 1 by default.
+
+    Between ``TRAORI`` and ``TRAFOOF`` an interpreter emits :class:`OrientedMove` instead of
+    the motions of :data:`MOTIONS`; it cannot know the axis values there (they need the machine's
+    inverse kinematics), so after either marker every axis the transformation drives (the
+    geometry axes and the two rotary axes) is **unknown to the interpreter** until the program
+    positions it absolutely: such a value is ``nan`` in the motions that follow, meaning "where
+    the machine is now", and a consumer resolves it (``vmach.machine.oriented.resolve``). An
+    interpreter refuses an incremental move of an unknown axis.
+    """
+
+    name: str = "TRAORI"
+    number: int = 1
+    kind: ClassVar[str] = "transformation"
+
+    def fields(self) -> dict[str, Any]:
+        return {"name": self.name, "number": self.number}
+
+
+@dataclass(frozen=True, slots=True)
+class OrientedMove(Command):
+    """A motion block under the orientation transformation (TRAORI): the programmed pose in
+    the **workpiece frame** (the machine model's ``work`` frame, the control's basic coordinate
+    system: every frame already applied), not axis values.
+
+    motion : ``"traverse"``, ``"feed"`` or ``"arc"`` (the tool tip's path: a line, or the arc
+        given by ``plane``/``center``/``clockwise``/``turns`` as in :class:`ArcFeed`).
+    axes : every axis the interpreter knows: the geometry axes are the tool **tip** (mm,
+        workpiece frame; ``nan``: where it is now); a rotary axis the transformation drives is
+        the value programmed directly in this block (degrees), or ``nan`` when the orientation
+        decides it; other axes are machine values as in any motion.
+    vector : (3,) the programmed tool direction (from the tip toward the spindle, workpiece
+        frame, not necessarily unit), or None: from rotary axes programmed directly (``axes``),
+        or — with neither — the orientation stays as it is.
+    interpolation : ``"axes"`` (ORIAXES: the rotary axes move linearly between the end
+        orientations) or ``"vector"`` (ORIVECT/ORIPLANE: the vector turns on the great circle
+        between them); either way the tip moves on its programmed path.
+
+    The consumer samples the block within ``tol.angle_step`` of orientation and ``tol.chord``
+    of path, solves each sample with the model's inverse kinematics and emits
+    :class:`LinearFeed` (:class:`Traverse` for G0) rows of axis values right after this command,
+    which stays in the stream as the record of what was programmed.
+    """
+
+    motion: str = "feed"
+    axes: Mapping[str, float] = field(default_factory=dict)
+    vector: tuple[float, float, float] | None = None
+    interpolation: str = "vector"
+    feed: float = 0.0
+    plane: tuple[str, str, str] = ("X", "Y", "Z")
+    center: tuple[float, float] = (0.0, 0.0)
+    clockwise: bool = True
+    turns: int = 0
+    kind: ClassVar[str] = "oriented_move"
+
+    def fields(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"motion": self.motion, "axes": dict(self.axes),
+                               "vector": list(self.vector) if self.vector is not None else None,
+                               "interpolation": self.interpolation, "feed": self.feed}
+        if self.motion == "arc":
+            out.update(plane=list(self.plane), center=list(self.center), clockwise=self.clockwise,
+                       turns=self.turns)
+        return out
+
+
+@dataclass(frozen=True, slots=True)
 class Dwell(Command):
     """Dwell (G4): ``seconds``, or ``revolutions`` of the master spindle."""
 

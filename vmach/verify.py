@@ -24,6 +24,8 @@ from vmach.checks.process import spindle_off_cuts, unknown_tools, zero_feeds
 from vmach.errors import InputError
 from vmach.files import input_file
 from vmach.findings import Finding, sort_key
+from vmach.machine.oriented import needs_resolving
+from vmach.machine.oriented import resolve as resolve_orientation
 from vmach.motion import MoveTable, build
 from vmach.setup import Setup, read_setup, resolve_model, setting, with_offsets
 from vmach.tol import ACCURACY, tol
@@ -281,6 +283,10 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         commands = [] if stopped is not None else result.commands
 
     with clock("move_table"):
+        if needs_resolving(commands):          # TRAORI: tip and vector → axis values (the model's IK)
+            commands, found = resolve_orientation(commands, model)
+            report.findings.extend(found)
+            result.commands = commands
         table = build(commands, control)
         report.table = table
 

@@ -333,7 +333,7 @@ _LISTS = {
     "speeds": {"speed"},
     "ms": {"m"},
     "cycles": {"cycle", "machine_gcode", "aux", "spos", "builtin"},
-    "interp": {"interp", "cr", "turn", "corner", "polar"},
+    "interp": {"interp", "cr", "turn", "corner", "polar", "orient"},
     "frame_values": {"frame"},
 }
 
@@ -364,7 +364,7 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
         kind = item.kind
         if kind == "axis":
             return (lambda v: v.axes.append((item, _number(f(), item.name)))), col
-        if kind in ("interp", "cr", "turn", "corner", "polar"):
+        if kind in ("interp", "cr", "turn", "corner", "polar", "orient"):
             name, mode = item.name, item.mode
             return (lambda v: v.interp.__setitem__(name, (_number(f(), name), mode))), col
         if kind == "feed":

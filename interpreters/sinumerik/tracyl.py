@@ -59,7 +59,7 @@ def activate(machine, args, src: SourceRef) -> Mark:
     if rotary is None or "Y" not in machine.pos:
         raise ProgramError("unsupported", "TRACYL: the machine has no modulo rotary axis (and Y) to "
                            "unwrap the cylinder with", src)
-    if machine.cutcom.engaged or machine.tracyl is not None or machine.frames.rotated:
+    if machine.cutcom.engaged or machine.tracyl is not None or machine.frames.rotated or machine.traori:
         raise ProgramError("unsupported", "TRACYL while compensation, TRACYL or a rotated frame is "
                            "active is not simulated (G40, TRAFOOF, ROT first)", src)
     k = 360.0 / (math.pi * d)
