@@ -43,10 +43,12 @@ def needs_resolving(commands) -> bool:
     return any(isinstance(c, (canon.Transformation, canon.OrientedMove)) for c in commands)
 
 
-def resolve(commands, model, *, step: float = tol.angle_step, chord: float = tol.chord
-            ) -> tuple[list, list[Finding]]:
+def resolve(commands, model, *, step: float = tol.angle_step, chord: float = tol.chord,
+            ends_only: bool = False) -> tuple[list, list[Finding]]:
     """The stream with oriented moves solved and unknown values filled (see the module
-    docstring), and the findings. Streams without a transformation come back as they are."""
+    docstring), and the findings. Streams without a transformation come back as they are.
+    ``ends_only``: of each oriented block only its end row (the programmed pose, for the
+    post-processor check, which pairs poses with blocks)."""
     if not needs_resolving(commands):
         return commands, []
     o = orienter(model)
@@ -72,7 +74,7 @@ def resolve(commands, model, *, step: float = tol.angle_step, chord: float = tol
             rows, finding = _block(o, c, cur, names, step, chord)
             if finding is not None:
                 found.append(finding)
-            for axes in rows:
+            for axes in rows[-1:] if ends_only else rows:
                 out.append(canon.Traverse(c.source, axes=axes) if c.motion == "traverse"
                            else canon.LinearFeed(c.source, axes=axes, feed=c.feed))
             if rows:
