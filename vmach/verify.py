@@ -228,7 +228,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             raise InputError(
                 f"{program}: which machine? give --machine (or a vmach.toml beside the program)", kind="usage"
             )
-        model = load_model(report.machine_path)
+        model = load_model(report.machine_path, setup.parameters or None)   # vmach.toml [parameters]
         report.model = model
         control = with_offsets(model.control, setup)
         tools_path = Path(options.tools) if options.tools else setup.tools

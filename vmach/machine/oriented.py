@@ -157,7 +157,9 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
     along, chords = _path(c, tip0, tip1, geo, chord)
     spread = turn if vector_mode else max(abs(end[0] - prev[0]), abs(end[1] - prev[1]))
     n = n0 = max(chords, math.ceil(spread / step), 1)
-    at_pole = bool(o.candidates(t0[None])[3][0])     # the first step chooses the outer axis
+    at_pole = bool(o.candidates(t0[None])[3][0])     # the first step chooses the outer axis:
+    if at_pole and vector_mode:                      # the one of the block's end, as the rule
+        prev = (end[0], prev[1])                     # takes it from the start (no later flip)
     while True:
         f = np.arange(1, n + 1) / n
         if vector_mode:
