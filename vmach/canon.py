@@ -206,7 +206,9 @@ MOTIONS = (Traverse, LinearFeed, ArcFeed)
 class Transformation(Command):
     """A kinematic transformation the *machine side* carries out switched on or off.
 
-    name : ``"TRAORI"`` (the five-axis orientation transformation) or ``"TRAFOOF"`` (off).
+    name : ``"TRAORI"`` (the five-axis orientation transformation), ``"CYCLE800"`` (a swivelled
+        working plane: the same contract, the orientation fixed by the swivel) or ``"TRAFOOF"``
+        (off; also ``CYCLE800()``).
     number : the transformation's number (``TRAORI(2)``), 1 by default.
 
     Between ``TRAORI`` and ``TRAFOOF`` an interpreter emits :class:`OrientedMove` instead of
@@ -244,6 +246,15 @@ class OrientedMove(Command):
     interpolation : ``"axes"`` (ORIAXES: the rotary axes move linearly between the end
         orientations) or ``"vector"`` (ORIVECT/ORIPLANE: the vector turns on the great circle
         between them); either way the tip moves on its programmed path.
+    frame : None, or 12 numbers (origin x y z, then a row-major 3x3 linear part) when the
+        block leaves a geometry axis where it is under a rotated frame: then the geometry values
+        in ``axes`` are **program coordinates** (``nan`` where the tip stays), and the
+        workpiece point is ``origin + linear · program``.
+    prefer : None, or (rotary axis name, +1 or −1): of the two solutions take the one with the
+        higher (+1) or lower (−1) value of that axis when both are inside the travel
+        (CYCLE800's direction); None: the transformation's own rule.
+    hold_axes : the linear axes keep their values while the rotary axes turn (CYCLE800's
+        swivelling without tool follow-up: the tip moves with the part); ``motion`` traverse.
 
     The consumer samples the block within ``tol.angle_step`` of orientation and ``tol.chord``
     of path, solves each sample with the model's inverse kinematics and emits
@@ -260,6 +271,9 @@ class OrientedMove(Command):
     center: tuple[float, float] = (0.0, 0.0)
     clockwise: bool = True
     turns: int = 0
+    frame: tuple[float, ...] | None = None
+    prefer: tuple[str, int] | None = None
+    hold_axes: bool = False
     kind: ClassVar[str] = "oriented_move"
 
     def fields(self) -> dict[str, Any]:

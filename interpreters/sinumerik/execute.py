@@ -363,8 +363,8 @@ class Machine:
                 drill(self, name, args, src)
             elif name in PATTERNS:
                 pattern(self, name, args, src)
-            elif name in ("TRACYL", "TRAORI"):
-                out.append((tracyl if name == "TRACYL" else orientation).activate(self, args, src))
+            elif name in ("TRACYL", "TRAORI", "CYCLE800"):
+                out.extend(orientation.start(self, name, args, src))
                 self.placeholders = True
             elif name.startswith("MCALL"):
                 self.mcall = (name[6:], args) if name != "MCALL" else None

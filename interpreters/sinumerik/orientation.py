@@ -28,8 +28,10 @@ of an unknown axis is ``unsupported``.
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
 
+from interpreters.sinumerik import swivel, tracyl
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -69,8 +71,21 @@ def set_mode(machine, name: str) -> None:
         modes.definition = name
 
 
-def activate(machine, args, src: SourceRef) -> canon.Transformation:
-    """TRAORI or TRAORI(n): the transformation marker; geometry and rotary axes become unknown."""
+def start(machine, name: str, args, src: SourceRef) -> list:
+    """TRACYL(d), TRAORI(n) or CYCLE800(...) in a block: the commands that start it."""
+    if name == "TRACYL":
+        if machine.traori is not None:
+            raise ProgramError("unsupported", "TRACYL while TRAORI or CYCLE800 is active is not "
+                               "simulated (TRAFOOF first)", src)
+        return [tracyl.activate(machine, args, src)]
+    if name == "CYCLE800":
+        return swivel.cycle800(machine, args, src, sys.modules[__name__])
+    return [activate(machine, args, src)]
+
+
+def activate(machine, args, src: SourceRef, name: str = "TRAORI") -> canon.Transformation:
+    """TRAORI or TRAORI(n) (or CYCLE800's start): the transformation marker; geometry and rotary
+    axes become unknown."""
     if len(args) > 1:
         raise ProgramError("unsupported", "TRAORI with an orientation offset (parameters after n) is "
                            "not simulated", src)
@@ -85,16 +100,19 @@ def activate(machine, args, src: SourceRef) -> canon.Transformation:
         raise ProgramError("unsupported", "TRAORI while tool radius compensation or another "
                            "transformation is active is not simulated (G40, TRAFOOF first)", src)
     machine.traori = Traori(int(n), rot)       # type: ignore[arg-type]
-    _forget(machine, rot)
-    return canon.Transformation(src, name="TRAORI", number=int(n))
+    forget(machine)
+    return canon.Transformation(src, name=name, number=int(n))
 
 
 def deactivate(machine, src: SourceRef) -> canon.Transformation:
     """TRAFOOF after TRAORI: the axes are machine axes again, at positions only the machine side
     knows."""
-    rot = machine.traori.rotaries
+    forget(machine)
     machine.traori = None
-    _forget(machine, rot)
+    if getattr(machine, "swivel", None) is not None:     # TRAFOOF ends CYCLE800's too
+        machine.frames.set_settable(*machine.swivel)
+        machine.swivel = None
+        machine.emit_frame(src)
     return canon.Transformation(src, name="TRAFOOF", number=0)
 
 
@@ -121,7 +139,9 @@ def words(machine, v, src: SourceRef) -> bool:
     return bool(found)
 
 
-def _forget(machine, rot) -> None:
+def forget(machine) -> None:
+    """The geometry and the transformation's rotary axes become unknown (``nan``)."""
+    rot = machine.traori.rotaries
     pos = dict(machine.pos)
     for name in (*machine.geometry, *rot):
         pos[name] = math.nan
@@ -189,12 +209,6 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
         raise ProgramError("unsupported", "tool radius compensation, chamfers or roundings under TRAORI "
                            "are not simulated", src)
     rot = machine.traori.rotaries
-    geo = [w for w, _ in v.axes if w.name in machine.geometry]
-    if machine.frames.rotated and geo and len({w.name for w in geo}) < 3 and \
-            any(machine.pos[g] != machine.pos[g] for g in machine.geometry):
-        raise ProgramError("unsupported", "under a rotated frame the first position after TRAORI or "
-                           "TRAFOOF needs X, Y and Z together (the rest is only known to the machine)",
-                           src)
     new = machine._targets(v, src, suppress) if v.axes else dict(machine.pos)
     learned(machine, v.axes, new, suppress)
     direct = any(w.name in rot for w, _ in v.axes)
@@ -210,6 +224,13 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
     if motion in ("G1", "G2", "G3", "CIP", "CT") and machine.feed <= 0:
         raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
     kw: dict = {}
+    frames, g = machine.frames, machine.geometry
+    if frames.rotated and not suppress and any(new[n] != new[n] for n in g):
+        # the tip partly unknown under a rotated frame: the programmed program coordinates
+        scale = 25.4 if machine.inch else 1.0
+        prog = {w.name: float(val) * scale for w, val in v.axes if w.name in g}
+        axes.update({n: prog.get(n, math.nan) for n in g})
+        kw["frame"] = (*(frames.off.get(n, 0.0) for n in g), *frames.rotation_flat())
     if motion in ("G0", "G1"):
         kind = "traverse" if motion == "G0" else "feed"
     else:
@@ -217,6 +238,9 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
         axes = {k: (axes[k] if k in rot else arc.axes[k]) for k in axes}
         kind = "arc"
         kw = dict(plane=arc.plane, center=arc.center, clockwise=arc.clockwise, turns=arc.turns)
+    if kind == "arc" and "frame" in kw:
+        raise ProgramError("unsupported", "a circle as the first move after TRAORI, CYCLE800 or "
+                           "TRAFOOF under a rotated frame (its start is only known to the machine)", src)
     machine.sink.append(canon.OrientedMove(src, motion=kind, axes=axes, vector=vec,
                                            interpolation=machine.ori.interpolation,
                                            feed=0.0 if kind == "traverse" else machine.feed, **kw))

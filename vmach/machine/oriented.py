@@ -64,8 +64,8 @@ def resolve(commands, model, *, step: float = tol.angle_step, chord: float = tol
                 axes[k] = cur.get(k, 0.0)
             c = replace(c, axes=axes) if unknown else c
             cur.update(axes)
-        elif isinstance(c, canon.Transformation) and c.name == "TRAORI" and o is None:
-            found.append(error("unsupported", f"TRAORI: {model.name} has no two rotary axes to "
+        elif isinstance(c, canon.Transformation) and c.name != "TRAFOOF" and o is None:
+            found.append(error("unsupported", f"{c.name}: {model.name} has no two rotary axes to "
                                "orient the tool with", c.source, machine=model.name))
         elif isinstance(c, canon.OrientedMove):
             out.append(c)
@@ -134,6 +134,9 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
     tip0, t0 = pose.tip[0], pose.axis[0]
     geo = [names[i] for i in o.linear]
     tip1 = np.array([c.axes.get(g, math.nan) for g in geo], float)
+    if c.frame is not None:              # program coordinates, nan where the tip stays
+        origin, lin = np.array(c.frame[:3]), np.array(c.frame[3:]).reshape(3, 3)
+        tip1 = origin + lin @ np.where(np.isnan(tip1), np.linalg.solve(lin, tip0 - origin), tip1)
     tip1 = np.where(np.isnan(tip1), tip0, tip1)
     ro, ri = o.rotary_names
     prev = (q0[o.outer], q0[o.inner])
@@ -143,7 +146,7 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
         if not np.linalg.norm(c.vector) > 1e-12:
             return [], error("invalid_value", "the programmed tool vector is zero", c.source)
         t1 = _unit(c.vector)
-        e_o, e_i, reach, _ = o.rotaries(t1[None], prev)
+        e_o, e_i, reach, _ = o.rotaries(t1[None], prev, c.prefer)
         if not reach[0]:
             return [], _unreachable(c, t1)
         end = (float(e_o[0]), float(e_i[0]))
@@ -176,7 +179,8 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
         n = min(MOST, 16 * n0, math.ceil(n * worst / step * 1.05))
     q = np.tile(q0, (n, 1))
     q[:, o.outer], q[:, o.inner] = so, si
-    q = o.linear_axes(q, along(f))
+    if not c.hold_axes:
+        q = o.linear_axes(q, along(f))
     rows = []
     for r in q:
         axes = dict(cur)

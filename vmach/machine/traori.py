@@ -125,9 +125,12 @@ class Orienter:
         outer[pole] = np.nan
         return outer, inner, reach, pole
 
-    def choose(self, outer: np.ndarray, inner: np.ndarray, previous: tuple[float, float]):
+    def choose(self, outer: np.ndarray, inner: np.ndarray, previous: tuple[float, float],
+               prefer: tuple[str, int] | None = None):
         """The rule of the module docstring for one pose: (outer, inner) degrees from the two
-        roots (2,) each (outer NaN at the pole), given the previous (outer, inner)."""
+        roots (2,) each (outer NaN at the pole), given the previous (outer, inner).
+        ``prefer`` (axis name, ±1): among roots inside the travel, the higher (+1) or lower
+        (−1) value of that axis wins instead of the least motion (CYCLE800's direction)."""
         best = None
         for j in (0, 1):
             vals = []
@@ -146,11 +149,14 @@ class Orienter:
                          for k in (0, 1) if not self.modulo[k])
             cost = abs(vals[0] - previous[0]) + abs(vals[1] - previous[1])
             key = (not inside, round(cost, 9), -inner[j])
+            if prefer is not None and prefer[0] in self.rotary_names:
+                key = (not inside, -prefer[1] * vals[self.rotary_names.index(prefer[0])], *key[1:])
             if best is None or key < best[0]:
                 best = (key, vals)
         return best[1][0], best[1][1]
 
-    def rotaries(self, t: np.ndarray, previous: tuple[float, float]):
+    def rotaries(self, t: np.ndarray, previous: tuple[float, float],
+                 prefer: tuple[str, int] | None = None):
         """Rotary values along a sequence of unit vectors t (n, 3), each chosen by the rule from
         the one before (the first from ``previous``): (outer (n,), inner (n,), reach (n,) bool,
         pole (n,) bool)."""
@@ -159,7 +165,7 @@ class Orienter:
         prev = previous
         for n in range(len(t)):
             if reach[n]:
-                prev = self.choose(outer[n], inner[n], prev)
+                prev = self.choose(outer[n], inner[n], prev, prefer)
             out_o[n], out_i[n] = prev
         return out_o, out_i, reach, pole
 
