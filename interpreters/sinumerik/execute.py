@@ -363,7 +363,7 @@ class Machine:
                 drill(self, name, args, src)
             elif name in PATTERNS:
                 pattern(self, name, args, src)
-            elif name in ("TRACYL", "TRAORI", "CYCLE800"):
+            elif name in ("TRACYL", "TRAORI", "CYCLE800", "TRANSMIT"):
                 out.extend(orientation.start(self, name, args, src))
                 self.placeholders = True
             elif name.startswith("MCALL"):
@@ -517,7 +517,7 @@ class Machine:
             left.append(("G41/G42", "tool radius compensation (no G40)"))
         if self.mcall is not None:
             left.append(("MCALL", f"the modal call MCALL {self.mcall[0]} (no MCALL to end it)"))
-        left += [(n, f"{n} (no TRAFOOF)") for n, m in (("TRACYL", self.tracyl), ("TRAORI", self.traori)) if m]
+        left += [(m.name, f"{m.name} (no TRAFOOF)") for m in (self.tracyl, self.traori) if m]
         for what, text in left:
             self.notes.append(warning("left_active", f"the program ends with {text} still active", src,
                                       what=what))

@@ -31,7 +31,7 @@ import math
 import sys
 from dataclasses import dataclass
 
-from interpreters.sinumerik import swivel, tracyl
+from interpreters.sinumerik import swivel, tracyl, transmit
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -49,6 +49,7 @@ class Traori:
 
     number: int
     rotaries: tuple[str, str]
+    name: str = "TRAORI"
 
 
 class Modes:
@@ -80,6 +81,8 @@ def start(machine, name: str, args, src: SourceRef) -> list:
         return [tracyl.activate(machine, args, src)]
     if name == "CYCLE800":
         return swivel.cycle800(machine, args, src, sys.modules[__name__])
+    if name == "TRANSMIT":
+        return [transmit.activate(machine, args, src)]
     return [activate(machine, args, src)]
 
 
@@ -99,7 +102,7 @@ def activate(machine, args, src: SourceRef, name: str = "TRAORI") -> canon.Trans
     if machine.cutcom.engaged or machine.tracyl is not None or machine.traori is not None:
         raise ProgramError("unsupported", "TRAORI while tool radius compensation or another "
                            "transformation is active is not simulated (G40, TRAFOOF first)", src)
-    machine.traori = Traori(int(n), rot)       # type: ignore[arg-type]
+    machine.traori = Traori(int(n), rot, name)       # type: ignore[arg-type]
     forget(machine)
     return canon.Transformation(src, name=name, number=int(n))
 
@@ -117,14 +120,16 @@ def deactivate(machine, src: SourceRef) -> canon.Transformation:
 
 
 def code(machine, name: str, src: SourceRef) -> bool:
-    """A code of the orientation groups (25, 50, 51: False) or of the transformation group
-    (100: TRAORI alone or TRAFOOF, True)."""
+    """A code of the orientation groups (25, 50, 51) or of the transformation group (100:
+    TRAORI or TRANSMIT alone, TRAFOOF); True for TRAFOOF (TRACYL's and TRANSMIT's end follows)."""
     if name in ("ORIWKS", "ORIMKS", *INTERPOLATION, *DEFINITIONS):
         set_mode(machine, name)
         return False
-    if name == "TRAORI":
-        machine.out.append(activate(machine, [], src))
-    elif machine.traori is not None:
+    if name in ("TRAORI", "TRANSMIT"):
+        machine.out.extend(start(machine, name, [], src))
+        machine.placeholders = True
+        return False
+    if machine.traori is not None:
         machine.out.append(deactivate(machine, src))
     return True
 

@@ -49,7 +49,7 @@ _INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "tur
            "FRCM": "corner", "AP": "polar", "RP": "polar", "I1": "interp", "J1": "interp", "K1": "interp",
            "AR": "interp"}
 _INTERP_UNSUPPORTED = {"ANG"}
-_BUILTINS = {"SETMS", "MSG", "WORKPIECE", "TRACYL", "TRAORI", "CYCLE800"}
+_BUILTINS = {"SETMS", "MSG", "WORKPIECE", "TRACYL", "TRAORI", "CYCLE800", "TRANSMIT"}
 _ORIENT = {"A2", "B2", "C2", "A3", "B3", "C3"}   # orientation words under TRAORI (orientation.py)
 _SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "aux", "P": "repeat"}
 

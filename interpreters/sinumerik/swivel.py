@@ -16,7 +16,8 @@ _DMODE)``:
   ``_ST`` units digit 0 replaces an active swivel, 1 adds to it.
 - the retraction before swivelling, ``_FR``: 0 none, 1 Z, 2 Z then X Y to the swivel data's
   retraction positions ``$TC_CARR38…40`` (default: the travel's positive end of Z, X and Y
-  stay); 4 and 5 (in the tool direction) are ``unsupported``.
+  stay); 4 (the most in the tool direction) and 5 (``_FR_I`` in the tool direction) on a
+  table-table machine, where the tool direction is machine +Z (elsewhere ``unsupported``).
 - the rotary positioning: the tool is turned normal to the new plane (Z for G17), the linear
   axes holding still (no tool follow-up); ``_DIR`` −1/+1 takes the solution with the lower /
   higher value of the swivel data's direction reference axis (rotary axis 1), 0 does not
@@ -116,9 +117,9 @@ def cycle800(machine, args, src: SourceRef, orientation) -> list:
     direction = int(_arg(args, 13, -1))
     if any(isinstance(v, str) for v in (fr, mode, *ref, a, b, c, *zero, direction)):
         raise ProgramError("type_error", "CYCLE800: the parameters after _TC are numbers", src)
-    if fr in (4, 5):
-        raise ProgramError("unsupported", f"CYCLE800 retraction _FR={fr} (in the tool direction) is not "
-                           "simulated", src)
+    if fr in (4, 5) and _carr(machine, 23) != "P":
+        raise ProgramError("unsupported", f"CYCLE800 retraction _FR={fr} (in the tool direction) on a "
+                           "machine that tilts the tool is not simulated", src)
     rot = tuple(x.name for x in machine.control.axes if x.kind == "rotary")
     if len(rot) != 2:
         raise ProgramError("unsupported", "CYCLE800: the machine has not two rotary axes to swivel "
@@ -129,8 +130,8 @@ def cycle800(machine, args, src: SourceRef, orientation) -> list:
     if machine.traori is not None and getattr(machine, "swivel", None) is None:
         raise ProgramError("unsupported", "CYCLE800 while TRAORI is active (TRAFOOF first)", src)
     r = rotation(machine, mode, a, b, c, src)
-    if fr in (1, 2):
-        out.append(_retract(machine, fr, src))
+    if fr in (1, 2, 4, 5):
+        out.append(_retract(machine, fr, _arg(args, 14), src))
     active = getattr(machine, "swivel", None)
     base = active if active is not None else (dict(machine.frames.settable), machine.frames.slin)
     # new (_ST units 0): on the frame before any swivel; additive (1): on the active one
@@ -151,14 +152,20 @@ def cycle800(machine, args, src: SourceRef, orientation) -> list:
     return out
 
 
-def _retract(machine, fr: int, src: SourceRef) -> canon.Traverse:
-    """The retraction in machine coordinates before swivelling."""
+def _retract(machine, fr: int, amount, src: SourceRef) -> canon.Traverse:
+    """The retraction in machine coordinates before swivelling (on a table-table machine the
+    tool direction is machine +Z: _FR 4 is Z to its end, 5 Z up by _FR_I)."""
     md = machine.control.machine_data
     plus = md.get("$MA_POS_LIMIT_PLUS", {})
     g = machine.geometry
     pos = dict(machine.pos)
     z = _carr(machine, 40)
-    pos[g[2]] = float(z) if z else float(plus.get(g[2], pos[g[2]]))
+    pos[g[2]] = float(z) if z and fr != 4 else float(plus.get(g[2], pos[g[2]]))
+    if fr == 5:
+        if pos[g[2]] != pos[g[2]] or isinstance(amount, str):
+            raise ProgramError("unsupported", "CYCLE800 _FR=5 from a position only the machine knows "
+                               "(right after a swivel) is not simulated", src)
+        pos[g[2]] = machine.pos[g[2]] + float(amount)
     if fr == 2:
         for i, k in ((0, 38), (1, 39)):
             v = _carr(machine, k)

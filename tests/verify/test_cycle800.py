@@ -115,8 +115,11 @@ def test_solid_and_projection_angles(tmp_path):
 
 def test_errors(tmp_path):
     f = error_of(run(tmp_path, 'CYCLE800(4,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\nM30\n',
-                     load_model("s5d").control))
+                     load_model("hybrid5").control))          # a B/C head: tool direction tilts
     assert (f.kind, f.line) == ("unsupported", 1)
+    r = run(tmp_path, 'G0 X0 Y0 Z10 B0 C0\nCYCLE800(5,"",0,57,0,0,0,10,0,0,0,0,0,1,25,1)\nM30\n',
+            load_model("s5d").control)                           # table-table: +Z by _FR_I
+    assert [c.axes["Z"] for c in r.commands if isinstance(c, MOTIONS)] == [10, 35]
     f = error_of(run(tmp_path, 'CYCLE800(1,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\nM30\n',
                      load_model("turnmill").control))
     assert (f.kind, f.line) == ("unsupported", 1)
