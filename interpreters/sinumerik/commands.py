@@ -34,6 +34,7 @@ from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, compile_expr
 from interpreters.sinumerik.language import CODES, COMMANDS
 from interpreters.sinumerik.lexer import IDENT, NUM, OP, STR
+from vmach import canon
 from vmach.errors import ProgramError
 from vmach.findings import Finding, info
 from vmach.source import SourceRef
@@ -231,10 +232,10 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
     note = it.recorder.note
 
     def record(v):
-        for g in fs:
-            if g is not None:
-                g()
+        vals = tuple(g() if g is not None else None for g in fs)
         note(name, effect, src.at(item.col))
+        if kind == "setting_cycle":      # kept in the stream: CYCLE832's tolerance (mm) first
+            it.machine.out.append(canon.CycleCall(src.at(item.col), name=name, args=vals))
 
     return record
 

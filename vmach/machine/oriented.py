@@ -7,7 +7,9 @@ cycle time work on axis values exactly as for an axis program.
 A block is sampled so that between two rows the tool vector turns by at most ``step`` degrees
 (``tol.angle_step``; ORIVECT: on the great circle; ORIAXES: the rotary axes linearly) and every
 rotary axis moves at most ``step`` degrees (refined near the pole, where the outer axis turns
-fast), and an arc's tip within ``tol.chord``; each sample is solved by
+fast), and an arc's tip within ``tol.chord`` — or within the tolerance a
+``CYCLE832(tol, …)`` before it gave the control (its compressor may leave the path by that
+much; 0 resets); each sample is solved by
 :class:`vmach.machine.traori.Orienter` (its rule chooses between the two solutions, continuing
 from the sample before). Findings, at the block's line:
 
@@ -53,6 +55,7 @@ def resolve(commands, model, *, step: float = tol.angle_step, chord: float = tol
         return commands, []
     o = orienter(model)
     names = list(model.axes)
+    base_chord = chord
     cur = {a.name: a.home for a in model.control.axes}
     out: list = []
     found: list[Finding] = []
@@ -67,6 +70,10 @@ def resolve(commands, model, *, step: float = tol.angle_step, chord: float = tol
         elif isinstance(c, canon.Transformation) and c.name != "TRAFOOF" and o is None:
             found.append(error("unsupported", f"{c.name}: {model.name} has no two rotary axes to "
                                "orient the tool with", c.source, machine=model.name))
+        elif isinstance(c, canon.CycleCall) and c.name == "CYCLE832" and c.args:
+            given = c.args[0]              # the control's path tolerance for what follows
+            if isinstance(given, (int, float)) and not isinstance(given, bool):
+                chord = max(tol.chord, float(given)) if given > 0 else base_chord
         elif isinstance(c, canon.OrientedMove):
             out.append(c)
             if o is None:
