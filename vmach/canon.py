@@ -391,6 +391,21 @@ class PathMode(Command):
 
 
 @dataclass(frozen=True, slots=True)
+class PathTolerance(Command):
+    """The contour tolerance the control keeps from here on (Sinumerik ``CYCLE832(tol, …)``):
+    ``tolerance`` mm (0: the control's own again); ``setting`` what else the call said
+    (``"_FINISH"`` …), as written. It moves nothing; vmach writes the transformed blocks it
+    approximates (TRAORI, CYCLE800) within it."""
+
+    tolerance: float = 0.0
+    setting: tuple[Any, ...] = ()
+    kind: ClassVar[str] = "path_tolerance"
+
+    def fields(self) -> dict[str, Any]:
+        return {"tolerance": self.tolerance, "setting": list(self.setting)}
+
+
+@dataclass(frozen=True, slots=True)
 class PlaneSelect(Command):
     """Working plane as (first, second, normal) axis names: G17 XY, G18 ZX, G19 YZ."""
 

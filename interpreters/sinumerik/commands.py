@@ -234,8 +234,10 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
     def record(v):
         vals = tuple(g() if g is not None else None for g in fs)
         note(name, effect, src.at(item.col))
-        if kind == "setting_cycle":      # kept in the stream: CYCLE832's tolerance (mm) first
-            it.machine.out.append(canon.CycleCall(src.at(item.col), name=name, args=vals))
+        if name == "CYCLE832":           # kept in the stream: its tolerance (mm) first
+            tol = vals[0] if vals and isinstance(vals[0], (int, float)) else 0.0
+            it.machine.out.append(canon.PathTolerance(src.at(item.col), tolerance=float(tol),
+                                                      setting=vals[1:]))
 
     return record
 

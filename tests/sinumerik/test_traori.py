@@ -168,13 +168,14 @@ def test_cycle832_tolerance_is_recorded_and_used_for_the_path(tmp_path):
     """CYCLE832(0.05, …) stays in the stream with its tolerance, and a TRAORI circle after it is
     written within 0.05 mm (the control's compressor may leave the path by that much) instead of
     tol.chord; CYCLE832(0) goes back."""
-    from vmach.canon import CycleCall
+    from vmach.canon import PathTolerance
 
     arc = "G1 X10 Y0 Z0 A3=0 B3=0 C3=1 F500\nG3 X-10 Y0 I-10 J0\n"
     body = f"CYCLE832(0.05,_FINISH,1)\nTRAORI\n{arc}CYCLE832(0)\n{arc}TRAFOOF\n"
     m, cmds, _ = solved(tmp_path, "s5d", body)
-    (c832, _) = [c for c in cmds if isinstance(c, CycleCall)]
-    assert c832.args[0] == 0.05 and c832.source.line == 1
+    (c832, c0) = [c for c in cmds if isinstance(c, PathTolerance)]
+    assert (c832.tolerance, c832.setting, c832.source.line) == (0.05, ("_FINISH", 1), 1)
+    assert (c0.tolerance, c0.source.line) == (0.0, 5)
     coarse, pose = rows(m, cmds, 4)
     fine, _ = rows(m, cmds, 7)
     assert np.abs(np.hypot(pose.tip[:, 0], pose.tip[:, 1]) - 10).max() < 1e-9   # on the circle

@@ -70,10 +70,8 @@ def resolve(commands, model, *, step: float = tol.angle_step, chord: float = tol
         elif isinstance(c, canon.Transformation) and c.name != "TRAFOOF" and o is None:
             found.append(error("unsupported", f"{c.name}: {model.name} has no two rotary axes to "
                                "orient the tool with", c.source, machine=model.name))
-        elif isinstance(c, canon.CycleCall) and c.name == "CYCLE832" and c.args:
-            given = c.args[0]              # the control's path tolerance for what follows
-            if isinstance(given, (int, float)) and not isinstance(given, bool):
-                chord = max(tol.chord, float(given)) if given > 0 else base_chord
+        elif isinstance(c, canon.PathTolerance):      # the control's, for what follows
+            chord = max(base_chord, c.tolerance) if c.tolerance > 0 else base_chord
         elif isinstance(c, canon.OrientedMove):
             out.append(c)
             if o is None:
