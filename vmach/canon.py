@@ -15,6 +15,10 @@ Contracts every interpreter keeps:
   Linear targets are the programmed tool tip; tool-length compensation is applied downstream by
   the kinematics, because its direction depends on the chain.
 - The transverse axis of a lathe (``X`` with DIAMON) is always a **radius**.
+- Under a kinematic transformation the machine side solves (Sinumerik TRAORI, CYCLE800) motion
+  is :class:`OrientedMove` (tip and tool vector in the workpiece frame) between
+  :class:`Transformation` marks, and axes only the machine knows are ``nan``;
+  ``vmach.machine.oriented.resolve`` turns such a stream into plain motions.
 - Modulo rotary axes are **unwrapped**: the value carries direction and amount of travel
   (from 350, ``ACP(10)`` gives 370; then ``ACN(350)`` gives 350).
 - Every command carries the :class:`SourceRef` of the block that caused it.
@@ -538,8 +542,26 @@ def format_text(cmd: Command, index: int) -> str:
 
 
 def format_json(cmd: Command) -> str:
-    """One JSON Lines record."""
-    return json.dumps(cmd.to_json(), ensure_ascii=False)
+    """One JSON Lines record (a ``nan`` — an axis only the machine knows — is ``null``)."""
+    return dumps(cmd.to_json())
+
+
+def dumps(record: dict) -> str:
+    """``record`` as strict JSON: ``nan`` written as ``null``."""
+    try:
+        return json.dumps(record, ensure_ascii=False, allow_nan=False)
+    except ValueError:
+        return json.dumps(_no_nan(record), ensure_ascii=False)
+
+
+def _no_nan(v):
+    if isinstance(v, float):
+        return None if v != v else v
+    if isinstance(v, dict):
+        return {k: _no_nan(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_no_nan(x) for x in v]
+    return v
 
 
 # --------------------------------------------------------------------------------------------

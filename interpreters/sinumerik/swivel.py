@@ -145,6 +145,7 @@ def cycle800(machine, args, src: SourceRef, orientation) -> list:
         out.append(orientation.activate(machine, [], src, name="CYCLE800"))
     machine.swivel = base
     machine.frames.set_settable(offsets, matmul(slin, r))
+    machine.swivel_lin = machine.frames.slin         # a G54 … after it replaces it: refused
     machine.emit_frame(src)
     orientation.forget(machine)
     if mode & 0xC0 == 0xC0 or direction:

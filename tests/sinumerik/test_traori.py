@@ -182,3 +182,16 @@ def test_cycle832_tolerance_is_recorded_and_used_for_the_path(tmp_path):
     r = 10.0
     assert len(coarse) == math.ceil(math.pi / (2 * math.acos(1 - 0.05 / r)))
     assert len(fine) == math.ceil(math.pi / (2 * math.acos(1 - tol.chord / r)))
+
+
+def test_run_json_writes_unknown_positions_as_null(tmp_path, capsys):
+    import json
+
+    from vmach.cli import main
+
+    prog = tmp_path / "T.MPF"
+    prog.write_text("TRAORI\nG1 X1 Y2 Z3 A3=0 B3=0 C3=1 F100\nTRAFOOF\nG0 Z50\nM30\n")
+    assert main(["run", str(prog), "--machine", "h5d", "--format", "json"]) == 0
+    rows = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert rows[1]["kind"] == "oriented_move" and rows[1]["axes"]["B"] is None
+    assert rows[3]["axes"]["X"] is None and rows[3]["axes"]["Z"] == 50.0

@@ -114,6 +114,9 @@ def test_solid_and_projection_angles(tmp_path):
 
 
 def test_errors(tmp_path):
+    f = error_of(run(tmp_path, 'G0 X0 Y0 Z50 B0 C0\nCYCLE800(0,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\n'
+                     'G54\nG0 X0 Y0 Z5\nM30\n', load_model("s5d").control))
+    assert (f.kind, f.line) == ("unsupported", 4)
     f = error_of(run(tmp_path, 'CYCLE800(4,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\nM30\n',
                      load_model("hybrid5").control))          # a B/C head: tool direction tilts
     assert (f.kind, f.line) == ("unsupported", 1)
