@@ -195,3 +195,41 @@ def test_run_json_writes_unknown_positions_as_null(tmp_path, capsys):
     rows = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
     assert rows[1]["kind"] == "oriented_move" and rows[1]["axes"]["B"] is None
     assert rows[3]["axes"]["X"] is None and rows[3]["axes"]["Z"] == 50.0
+
+
+def test_the_domain_worked_case_as_a_traori_program(tmp_path):
+    """Domain §2 on s5d with r_R = (10, 0, −5): the TRAORI block's axis values are the closed
+    form's term by term (coming from the B ≥ 0 branch, as the rule keeps it)."""
+    from vmach.machine.closed_form import table_table_ik
+
+    m = load_model("s5d").with_parameters(rotation_centre=(10.0, 0.0, -5.0))
+    r = run(tmp_path, "TRAORI\nG0 X0 Y0 Z40 B20 C140\nG1 X5 Y-3 Z12 A3=0.3 B3=0.2 C3=0.9 F500\n"
+            "TRAFOOF\nM30\n", m.control)
+    cmds, found = resolve(r.commands, m)
+    end = [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 3][-1].axes
+    ref, _ = table_table_ik(np.array([[5.0, -3.0, 12.0]]), np.array([[0.3, 0.2, 0.9]]), (10.0, 0.0, -5.0))
+    for name in ("X", "Y", "Z", "B", "C"):
+        assert end[name] == pytest.approx(float(ref[name][0]), abs=1e-9), name
+    assert found == []
+
+
+def test_a_vector_out_of_reach_is_unreachable_at_its_line(tmp_path):
+    """A table whose tilt axis leans 45° (a nutating table) reaches only tool vectors within 90°
+    of its axis: (0, −1, −1) is not, the block is an unreachable error and does not move."""
+    from pathlib import Path
+
+    from vmach.machine.oriented import resolve as solve
+
+    text = (Path(__file__).resolve().parents[2] / "models" / "s5d.toml").read_text()
+    leaning = "axis = [0.0, 0.70710678118654757, 0.70710678118654757]"
+    text = text.replace('ik = "table_table"', 'ik = "numeric"').replace(
+        "axis = [0.0, 1.0, 0.0]\nlimits = [-25.0, 135.0]", leaning)
+    (tmp_path / "nutate.toml").write_text(text)
+    m = load_model(tmp_path / "nutate.toml")
+    r = run(tmp_path, "TRAORI\nG0 X0 Y0 Z40 A3=0 B3=0 C3=1\nG1 X5 A3=0 B3=-1 C3=-1 F500\n"
+            "G1 X6 A3=0.2 B3=0 C3=1\nTRAFOOF\nM30\n", m.control)
+    cmds, found = solve(r.commands, m)
+    assert [(f.kind, f.severity, f.line) for f in found] == [("unreachable", "error", 3)]
+    assert not [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 3]
+    q, pose = rows(m, cmds, 4)
+    assert np.abs(pose.axis[-1] - unit((0.2, 0, 1))).max() < 1e-9
