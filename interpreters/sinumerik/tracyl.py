@@ -71,13 +71,7 @@ def activate(machine, args, src: SourceRef) -> Mark:
     if not d > 1.0 or not math.isfinite(d):
         raise ProgramError("invalid_value", f"TRACYL({args[0]}): the working diameter must be larger "
                            "than 1", src)
-    rotary = next((a.name for a in machine.control.axes if a.kind == "rotary" and a.modulo), None)
-    if rotary is None or "Y" not in machine.pos:
-        raise ProgramError("unsupported", "TRACYL: the machine has no modulo rotary axis (and Y) to "
-                           "unwrap the cylinder with", src)
-    if machine.cutcom.engaged or machine.tracyl is not None or machine.frames.rotated or machine.traori:
-        raise ProgramError("unsupported", "TRACYL while compensation, TRACYL or a rotated frame is "
-                           "active is not simulated (G40, TRAFOOF, ROT first)", src)
+    rotary = spindle_axis(machine, "TRACYL", src)
     k = 360.0 / (math.pi * d)
     c = machine.pos[rotary]
     c0 = 360.0 * round(c / 360.0)
@@ -88,6 +82,20 @@ def activate(machine, args, src: SourceRef) -> Mark:
     mark = Mark(True, rotary, k, c0, y0, tuple(pos.items()))
     machine.tracyl = mark
     return mark
+
+
+def spindle_axis(machine, name: str, src: SourceRef) -> str:
+    """The modulo rotary axis a transformation of the turn-mill (TRACYL, TRANSMIT) turns;
+    ``unsupported`` without one (and Y), or while compensation, another transformation or a
+    rotated frame is active."""
+    rotary = next((a.name for a in machine.control.axes if a.kind == "rotary" and a.modulo), None)
+    if rotary is None or "Y" not in machine.pos:
+        raise ProgramError("unsupported", f"{name}: the machine has no modulo rotary axis (and Y) "
+                           "for the transformation", src)
+    if machine.cutcom.engaged or machine.tracyl is not None or machine.frames.rotated or machine.traori:
+        raise ProgramError("unsupported", f"{name} while compensation, another transformation or a "
+                           "rotated frame is active is not simulated (G40, TRAFOOF, ROT first)", src)
+    return rotary
 
 
 def deactivate(machine) -> Mark:

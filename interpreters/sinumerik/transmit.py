@@ -116,13 +116,7 @@ def activate(machine, args, src: SourceRef) -> Mark:
     """TRANSMIT or TRANSMIT(n): the start mark; positions become Cartesian on the face."""
     if len(args) > 1:
         raise ProgramError("syntax", "TRANSMIT takes at most the transformation number", src)
-    rotary = next((a.name for a in machine.control.axes if a.kind == "rotary" and a.modulo), None)
-    if rotary is None or "Y" not in machine.pos:
-        raise ProgramError("unsupported", "TRANSMIT: the machine has no modulo rotary axis (and Y) for "
-                           "the polar transformation", src)
-    if machine.cutcom.engaged or machine.tracyl is not None or machine.frames.rotated or machine.traori:
-        raise ProgramError("unsupported", "TRANSMIT while compensation, another transformation or a "
-                           "rotated frame is active is not simulated (G40, TRAFOOF, ROT first)", src)
+    rotary = tracyl.spindle_axis(machine, "TRANSMIT", src)
     pos = dict(machine.pos)
     if abs(pos["Y"]) > 1e-9:
         raise ProgramError("unsupported", f"TRANSMIT with the Y axis off the centre (Y = {pos['Y']:g}) is "

@@ -4,6 +4,8 @@ on the table-table mills s5d (B/C) and mill5ac (A/C)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import trimesh
@@ -15,17 +17,8 @@ from vmach.cli import main
 from vmach.machine import load_model
 from vmach.machine.oriented import resolve
 
-TOOLS = """
-[[tool]]
-name = "EM6"
-type = "flat"
-diameter = 6.0
-cutting_length = 15.0
-shank = { diameter = 6.0, length = 20.0 }
-holder = { diameter = 20.0, length = 30.0 }
-[tool.d.1]
-length = 0.0
-"""
+#: the five-axis fixtures' Ø6 flat end mill "EM6"
+TOOLS = Path(__file__).resolve().parents[2] / "fixtures" / "five_axis" / "tools.toml"
 
 # a 10 x 10 pocket 3 mm deep below the plane turned 20° about X through (0, 4, 0)
 POCKET = """G17 G90 G0 X0 Y0 Z60 {rot0} C0
@@ -130,11 +123,10 @@ def test_errors(tmp_path):
 
 @pytest.mark.parametrize("machine, rot0", [("s5d", "B0"), ("mill5ac", "A0")])
 def test_a_pocket_in_the_swivelled_plane_lands_where_the_plane_says(tmp_path, machine, rot0):
-    (tmp_path / "tools.toml").write_text(TOOLS)
     prog = tmp_path / "POCKET.MPF"
     prog.write_text(POCKET.format(rot0=rot0, dir=-1))
     part = tmp_path / "part.stl"
-    assert main(["verify", str(prog), "--machine", machine, "--tools", str(tmp_path / "tools.toml"),
+    assert main(["verify", str(prog), "--machine", machine, "--tools", str(TOOLS),
                  "--stock", "box:x=40,y=40,z=30", "--export", str(part), "--out", str(tmp_path / "o"),
                  "--no-images", "--quiet"]) == 0
     mesh = trimesh.load(part)
