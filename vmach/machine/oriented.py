@@ -56,6 +56,7 @@ def resolve(commands, model, *, step: float = tol.angle_step, chord: float = tol
     o = orienter(model)
     names = list(model.axes)
     base_chord = chord
+    last: dict = {}
     cur = {a.name: a.home for a in model.control.axes}
     out: list = []
     found: list[Finding] = []
@@ -76,7 +77,7 @@ def resolve(commands, model, *, step: float = tol.angle_step, chord: float = tol
             out.append(c)
             if o is None:
                 continue
-            rows, finding = _block(o, c, cur, names, step, chord)
+            rows, finding = _block(o, c, cur, names, step, chord, last)
             if finding is not None:
                 found.append(finding)
             for axes in rows[-1:] if ends_only else rows:
@@ -131,12 +132,17 @@ def _path(c: canon.OrientedMove, start: np.ndarray, end: np.ndarray, geo, chord:
     return at, len(pts) - 1
 
 
-def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: float, chord: float):
-    """Rows (axis dicts) for one oriented block, and a finding or None."""
+def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: float, chord: float,
+           last: dict | None = None):
+    """Rows (axis dicts) for one oriented block, and a finding or None. ``last``: the previous
+    block's end (``q``, ``tip``, ``axis``), reused when the machine is still there."""
     model = o.model
     q0 = np.array([cur.get(n, 0.0) for n in names], float)
-    pose = model.fk(q0[None])
-    tip0, t0 = pose.tip[0], pose.axis[0]
+    if last is not None and last.get("q") is not None and np.array_equal(last["q"], q0):
+        tip0, t0 = last["tip"], last["axis"]
+    else:
+        pose = model.fk(q0[None])
+        tip0, t0 = pose.tip[0], pose.axis[0]
     geo = [names[i] for i in o.linear]
     tip1 = np.array([c.axes.get(g, math.nan) for g in geo], float)
     if c.frame is not None:              # program coordinates, nan where the tip stays
@@ -151,10 +157,12 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
         if not np.linalg.norm(c.vector) > 1e-12:
             return [], error("invalid_value", "the programmed tool vector is zero", c.source)
         t1 = _unit(c.vector)
-        e_o, e_i, reach, _ = o.rotaries(t1[None], prev, c.prefer)
-        if not reach[0]:
-            return [], _unreachable(c, t1)
-        end = (float(e_o[0]), float(e_i[0]))
+        end = prev
+        if c.interpolation != "vector" or c.prefer is not None or o.at_pole(t0):
+            e_o, e_i, reach, _ = o.rotaries(t1[None], prev, c.prefer)   # else: the last sample
+            if not reach[0]:
+                return [], _unreachable(c, t1)
+            end = (float(e_o[0]), float(e_i[0]))
     else:
         end = tuple(p if p == p else q for p, q in zip(programmed, prev, strict=True))
         qe = q0.copy()
@@ -165,7 +173,7 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
     along, chords = _path(c, tip0, tip1, geo, chord)
     spread = turn if vector_mode else max(abs(end[0] - prev[0]), abs(end[1] - prev[1]))
     n = n0 = max(chords, math.ceil(spread / step), 1)
-    at_pole = bool(o.candidates(t0[None])[3][0])     # the first step chooses the outer axis:
+    at_pole = o.at_pole(t0)                          # the first step chooses the outer axis:
     if at_pole and vector_mode:                      # the one of the block's end, as the rule
         prev = (end[0], prev[1])                     # takes it from the start (no later flip)
     while True:
@@ -184,8 +192,12 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
         n = min(MOST, 16 * n0, math.ceil(n * worst / step * 1.05))
     q = np.tile(q0, (n, 1))
     q[:, o.outer], q[:, o.inner] = so, si
+    if last is not None:
+        last["q"] = None
     if not c.hold_axes:
         q = o.linear_axes(q, along(f))
+        if last is not None:
+            last.update(q=q[-1].copy(), tip=tip1, axis=t1)
     rows = []
     for r in q:
         axes = dict(cur)

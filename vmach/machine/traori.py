@@ -59,12 +59,21 @@ def rot(u: np.ndarray, deg: np.ndarray) -> np.ndarray:
     return np.eye(3) + s[:, None, None] * k + (1.0 - c)[:, None, None] * (k @ k)
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (n, 3) or (3,) arrays (numpy's ``cross`` costs ~50 µs a call
+    in bookkeeping; this is a few array operations)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+                     a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], axis=-1)
+
+
 def _turn(u: np.ndarray, v: np.ndarray, deg: np.ndarray) -> np.ndarray:
     """Rows v (n, 3) or (3,) turned about unit u by deg (n,) degrees (Rodrigues, vectorised)."""
     t = np.radians(np.asarray(deg, float))[:, None]
     v = np.broadcast_to(v, (t.shape[0], 3))
-    return (v * np.cos(t) + np.cross(u, v) * np.sin(t)
-            + u * (v @ u)[:, None] * (1.0 - np.cos(t)))
+    c = np.cos(t)
+    return v * c + cross(u, v) * np.sin(t) + u * (v @ u)[:, None] * (1.0 - c)
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,6 +98,10 @@ class Orienter:
     modulo: np.ndarray
 
     @property
+    def _limits(self) -> list:
+        return self.limits.tolist()
+
+    @property
     def rotary_names(self) -> tuple[str, str]:
         axes = self.model.axes
         return axes[self.outer], axes[self.inner]
@@ -105,7 +118,7 @@ class Orienter:
         uo, ui, v0 = self.u_outer, self.u_inner, self.v0
         oi, iv = float(uo @ ui), float(ui @ v0)
         p = float(uo @ v0) - oi * iv
-        qq = float(uo @ np.cross(ui, v0))
+        qq = float(uo @ cross(ui, v0))
         s = oi * iv
         rho, phi = math.hypot(p, qq), math.atan2(qq, p)
         ot = t @ uo
@@ -119,7 +132,7 @@ class Orienter:
         outer = np.empty_like(inner)
         for j in (0, 1):
             w = _turn(ui, v0, inner[:, j])
-            y = np.cross(w, t) @ uo
+            y = cross(w, t) @ uo
             x = np.einsum("ij,ij->i", w, t) - (w @ uo) * ot
             outer[:, j] = np.degrees(np.arctan2(y, x))
         outer[pole] = np.nan
@@ -132,20 +145,21 @@ class Orienter:
         ``prefer`` (axis name, ±1): among roots inside the travel, the higher (+1) or lower
         (−1) value of that axis wins instead of the least motion (CYCLE800's direction)."""
         best = None
+        limits = self._limits
         for j in (0, 1):
             vals = []
             for k, (cand, prev) in enumerate(((outer[j], previous[0]), (inner[j], previous[1]))):
-                if math.isnan(cand):
+                if cand != cand:
                     vals.append(prev)
                     continue
                 v = prev + ((cand - prev + 180.0) % 360.0 - 180.0)
-                lo, hi = self.limits[k]
+                lo, hi = limits[k]
                 if not self.modulo[k] and not lo - 1e-9 <= v <= hi + 1e-9:
                     for alt in (v - 360.0, v + 360.0):
                         if lo - 1e-9 <= alt <= hi + 1e-9:
                             v = alt
                 vals.append(v)
-            inside = all(self.limits[k][0] - 1e-9 <= vals[k] <= self.limits[k][1] + 1e-9
+            inside = all(limits[k][0] - 1e-9 <= vals[k] <= limits[k][1] + 1e-9
                          for k in (0, 1) if not self.modulo[k])
             cost = abs(vals[0] - previous[0]) + abs(vals[1] - previous[1])
             key = (not inside, round(cost, 9), -inner[j])
@@ -161,13 +175,18 @@ class Orienter:
         the one before (the first from ``previous``): (outer (n,), inner (n,), reach (n,) bool,
         pole (n,) bool)."""
         outer, inner, reach, pole = self.candidates(t)
-        out_o, out_i = np.empty(len(t)), np.empty(len(t))
+        out = np.empty((len(t), 2))
         prev = previous
-        for n in range(len(t)):
-            if reach[n]:
-                prev = self.choose(outer[n], inner[n], prev, prefer)
-            out_o[n], out_i[n] = prev
-        return out_o, out_i, reach, pole
+        oc, ic = outer.tolist(), inner.tolist()
+        for n, ok in enumerate(reach.tolist()):
+            if ok:
+                prev = self.choose(oc[n], ic[n], prev, prefer)
+            out[n] = prev
+        return out[:, 0], out[:, 1], reach, pole
+
+    def at_pole(self, t: np.ndarray) -> bool:
+        """Whether the unit vector t (3,) lies along the outer axis (its value is free)."""
+        return float(np.linalg.norm(t - (t @ self.u_outer) * self.u_outer)) <= POLE
 
     def linear_axes(self, q: np.ndarray, tip: np.ndarray) -> np.ndarray:
         """q (n, k) with its three linear columns set so that the tip is ``tip`` (n, 3) for the
