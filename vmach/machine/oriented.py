@@ -17,8 +17,8 @@ from the sample before). Findings, at the block's line:
   move the machine.
 - ``orientation_flip`` (warning): a rotary axis jumps more than :data:`FLIP` degrees between
   two samples although the tool vector turns at most ``step`` between them (the vector passes
-  close by the pole, or the solution changes branch) — on the machine a large, fast, unexpected
-  motion beside the part. Choosing the outer axis when a block starts at the pole is not one.
+  close by the pole, or the solution changes branch or unwinds at a travel limit) — on the
+  machine a large, fast, unexpected motion beside the part. Choosing the outer axis when a block starts at the pole is not one.
 - ``unsupported`` (error): TRAORI on a model without two rotary axes.
 """
 
@@ -211,8 +211,9 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
         travel = float(moves[k].sum())
         finding = warning("orientation_flip", f"{axis} jumps {worst:.3f}° between two orientations "
                           f"{turn / n:.3f}° apart ({travel:.3f}° in all while the tool vector turns "
-                          f"{turn:.3f}°): the path passes close by the pole or the solution changes "
-                          "branch — a large unexpected motion on the machine", c.source,
+                          f"{turn:.3f}°): the path passes close by the pole, or the solution changes "
+                          "branch or unwinds at a travel limit — a large unexpected motion on the "
+                          "machine", c.source,
                           axis=axis, step=worst, travel=travel, vector_turn=turn)
     return rows, finding
 
