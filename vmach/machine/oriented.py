@@ -18,7 +18,8 @@ from the sample before). Findings, at the block's line:
 - ``orientation_flip`` (warning): a rotary axis jumps more than :data:`FLIP` degrees between
   two samples although the tool vector turns at most ``step`` between them (the vector passes
   close by the pole, or the solution changes branch or unwinds at a travel limit) — on the
-  machine a large, fast, unexpected motion beside the part. Choosing the outer axis when a block starts at the pole is not one.
+  machine a large, fast, unexpected motion beside the part. Choosing the outer axis when a
+  block starts at the pole is not one.
 - ``unsupported`` (error): TRAORI on a model without two rotary axes.
 """
 
