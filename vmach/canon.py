@@ -15,6 +15,10 @@ Contracts every interpreter keeps:
   Linear targets are the programmed tool tip; tool-length compensation is applied downstream by
   the kinematics, because its direction depends on the chain.
 - The transverse axis of a lathe (``X`` with DIAMON) is always a **radius**.
+- Under a kinematic transformation the machine side solves (Sinumerik TRAORI, CYCLE800) motion
+  is :class:`OrientedMove` (tip and tool vector in the workpiece frame) between
+  :class:`Transformation` marks, and axes only the machine knows are ``nan``;
+  ``vmach.machine.oriented.resolve`` turns such a stream into plain motions.
 - Modulo rotary axes are **unwrapped**: the value carries direction and amount of travel
   (from 350, ``ACP(10)`` gives 370; then ``ACN(350)`` gives 350).
 - Every command carries the :class:`SourceRef` of the block that caused it.
@@ -209,6 +213,90 @@ MOTIONS = (Traverse, LinearFeed, ArcFeed)
 
 
 @dataclass(frozen=True, slots=True)
+class Transformation(Command):
+    """A kinematic transformation the *machine side* carries out switched on or off.
+
+    name : ``"TRAORI"`` (the five-axis orientation transformation), ``"CYCLE800"`` (a swivelled
+        working plane: the same contract, the orientation fixed by the swivel) or ``"TRAFOOF"``
+        (off; also ``CYCLE800()``).
+    number : the transformation's number (``TRAORI(2)``), 1 by default.
+
+    Between ``TRAORI`` and ``TRAFOOF`` an interpreter emits :class:`OrientedMove` instead of
+    the motions of :data:`MOTIONS`; it cannot know the axis values there (they need the machine's
+    inverse kinematics), so after either marker every axis the transformation drives (the
+    geometry axes and the two rotary axes) is **unknown to the interpreter** until the program
+    positions it absolutely: such a value is ``nan`` in the motions that follow, meaning "where
+    the machine is now", and a consumer resolves it (``vmach.machine.oriented.resolve``). An
+    interpreter refuses an incremental move of an unknown axis.
+    """
+
+    name: str = "TRAORI"
+    number: int = 1
+    kind: ClassVar[str] = "transformation"
+
+    def fields(self) -> dict[str, Any]:
+        return {"name": self.name, "number": self.number}
+
+
+@dataclass(frozen=True, slots=True)
+class OrientedMove(Command):
+    """A motion block under the orientation transformation (TRAORI): the programmed pose in
+    the **workpiece frame** (the machine model's ``work`` frame, the control's basic coordinate
+    system: every frame already applied), not axis values.
+
+    motion : ``"traverse"``, ``"feed"`` or ``"arc"`` (the tool tip's path: a line, or the arc
+        given by ``plane``/``center``/``clockwise``/``turns`` as in :class:`ArcFeed`).
+    axes : every axis the interpreter knows: the geometry axes are the tool **tip** (mm,
+        workpiece frame; ``nan``: where it is now); a rotary axis the transformation drives is
+        the value programmed directly in this block (degrees), or ``nan`` when the orientation
+        decides it; other axes are machine values as in any motion.
+    vector : (3,) the programmed tool direction (from the tip toward the spindle, workpiece
+        frame, not necessarily unit), or None: from rotary axes programmed directly (``axes``),
+        or — with neither — the orientation stays as it is.
+    interpolation : ``"axes"`` (ORIAXES: the rotary axes move linearly between the end
+        orientations) or ``"vector"`` (ORIVECT/ORIPLANE: the vector turns on the great circle
+        between them); either way the tip moves on its programmed path.
+    frame : None, or 12 numbers (origin x y z, then a row-major 3x3 linear part) when the
+        block leaves a geometry axis where it is under a rotated frame: then the geometry values
+        in ``axes`` are **program coordinates** (``nan`` where the tip stays), and the
+        workpiece point is ``origin + linear · program``.
+    prefer : None, or (rotary axis name, +1 or −1): of the two solutions take the one with the
+        higher (+1) or lower (−1) value of that axis when both are inside the travel
+        (CYCLE800's direction); None: the transformation's own rule.
+    hold_axes : the linear axes keep their values while the rotary axes turn (CYCLE800's
+        swivelling without tool follow-up: the tip moves with the part); ``motion`` traverse.
+
+    The consumer samples the block within ``tol.angle_step`` of orientation and ``tol.chord``
+    of path, solves each sample with the model's inverse kinematics and emits
+    :class:`LinearFeed` (:class:`Traverse` for G0) rows of axis values right after this command,
+    which stays in the stream as the record of what was programmed.
+    """
+
+    motion: str = "feed"
+    axes: Mapping[str, float] = field(default_factory=dict)
+    vector: tuple[float, float, float] | None = None
+    interpolation: str = "vector"
+    feed: float = 0.0
+    plane: tuple[str, str, str] = ("X", "Y", "Z")
+    center: tuple[float, float] = (0.0, 0.0)
+    clockwise: bool = True
+    turns: int = 0
+    frame: tuple[float, ...] | None = None
+    prefer: tuple[str, int] | None = None
+    hold_axes: bool = False
+    kind: ClassVar[str] = "oriented_move"
+
+    def fields(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"motion": self.motion, "axes": dict(self.axes),
+                               "vector": list(self.vector) if self.vector is not None else None,
+                               "interpolation": self.interpolation, "feed": self.feed}
+        if self.motion == "arc":
+            out.update(plane=list(self.plane), center=list(self.center), clockwise=self.clockwise,
+                       turns=self.turns)
+        return out
+
+
+@dataclass(frozen=True, slots=True)
 class Dwell(Command):
     """Dwell (G4): ``seconds``, or ``revolutions`` of the master spindle."""
 
@@ -310,6 +398,21 @@ class PathMode(Command):
 
     def fields(self) -> dict[str, Any]:
         return {"mode": self.mode}
+
+
+@dataclass(frozen=True, slots=True)
+class PathTolerance(Command):
+    """The contour tolerance the control keeps from here on (Sinumerik ``CYCLE832(tol, …)``):
+    ``tolerance`` mm (0: the control's own again); ``setting`` what else the call said
+    (``"_FINISH"`` …), as written. It moves nothing; vmach writes the transformed blocks it
+    approximates (TRAORI, CYCLE800) within it."""
+
+    tolerance: float = 0.0
+    setting: tuple[Any, ...] = ()
+    kind: ClassVar[str] = "path_tolerance"
+
+    def fields(self) -> dict[str, Any]:
+        return {"tolerance": self.tolerance, "setting": list(self.setting)}
 
 
 @dataclass(frozen=True, slots=True)
@@ -445,8 +548,26 @@ def format_text(cmd: Command, index: int) -> str:
 
 
 def format_json(cmd: Command) -> str:
-    """One JSON Lines record."""
-    return json.dumps(cmd.to_json(), ensure_ascii=False)
+    """One JSON Lines record (a ``nan`` — an axis only the machine knows — is ``null``)."""
+    return dumps(cmd.to_json())
+
+
+def dumps(record: dict) -> str:
+    """``record`` as strict JSON: ``nan`` written as ``null``."""
+    try:
+        return json.dumps(record, ensure_ascii=False, allow_nan=False)
+    except ValueError:
+        return json.dumps(_no_nan(record), ensure_ascii=False)
+
+
+def _no_nan(v):
+    if isinstance(v, float):
+        return None if v != v else v
+    if isinstance(v, dict):
+        return {k: _no_nan(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_no_nan(x) for x in v]
+    return v
 
 
 # --------------------------------------------------------------------------------------------

@@ -24,6 +24,8 @@ from vmach.checks.process import spindle_off_cuts, unknown_tools, zero_feeds
 from vmach.errors import InputError
 from vmach.files import input_file
 from vmach.findings import Finding, sort_key
+from vmach.machine.oriented import needs_resolving
+from vmach.machine.oriented import resolve as resolve_orientation
 from vmach.motion import MoveTable, build
 from vmach.setup import Setup, read_setup, resolve_model, setting, with_offsets
 from vmach.tol import ACCURACY, tol
@@ -226,7 +228,7 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
             raise InputError(
                 f"{program}: which machine? give --machine (or a vmach.toml beside the program)", kind="usage"
             )
-        model = load_model(report.machine_path)
+        model = load_model(report.machine_path, setup.parameters or None)   # vmach.toml [parameters]
         report.model = model
         control = with_offsets(model.control, setup)
         tools_path = Path(options.tools) if options.tools else setup.tools
@@ -281,6 +283,10 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         commands = [] if stopped is not None else result.commands
 
     with clock("move_table"):
+        if needs_resolving(commands):          # TRAORI: tip and vector → axis values (the model's IK)
+            commands, found = resolve_orientation(commands, model)
+            report.findings.extend(found)
+            result.commands = commands
         table = build(commands, control)
         report.table = table
 

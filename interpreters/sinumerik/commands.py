@@ -35,6 +35,7 @@ from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, Node, compile_expr
 from interpreters.sinumerik.language import CODES, COMMANDS
 from interpreters.sinumerik.lexer import IDENT, NUM, OP, STR
+from vmach import canon
 from vmach.errors import ProgramError
 from vmach.findings import Finding, info
 from vmach.source import SourceRef
@@ -281,10 +282,12 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
     note = it.recorder.note
 
     def record(v):
-        for g in fs:
-            if g is not None:
-                g()
+        vals = tuple(g() if g is not None else None for g in fs)
         note(name, effect, src.at(item.col))
+        if name == "CYCLE832":           # kept in the stream: its tolerance (mm) first
+            tol = vals[0] if vals and isinstance(vals[0], (int, float)) else 0.0
+            it.machine.out.append(canon.PathTolerance(src.at(item.col), tolerance=float(tol),
+                                                      setting=vals[1:]))
 
     return record
 

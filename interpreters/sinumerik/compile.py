@@ -333,7 +333,7 @@ _LISTS = {
     "speeds": {"speed"},
     "ms": {"m"},
     "cycles": {"cycle", "machine_gcode", "aux", "spos", "builtin"},
-    "interp": {"interp", "cr", "turn", "corner", "polar"},
+    "interp": {"interp", "cr", "turn", "corner", "polar", "orient"},
     "frame_values": {"frame"},
 }
 
@@ -367,7 +367,7 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
         if kind == "axis_var":      # AX[variable]=value: the axis is chosen when the block runs
             axis = commands.runtime_axis(it, item)
             return (lambda v: v.axes.append((w := axis(), _number(f(), w.name)))), col
-        if kind in ("interp", "cr", "turn", "corner", "polar"):
+        if kind in ("interp", "cr", "turn", "corner", "polar", "orient"):
             name, mode = item.name, item.mode
             return (lambda v: v.interp.__setitem__(name, (_number(f(), name), mode))), col
         if kind == "feed":

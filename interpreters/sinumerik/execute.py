@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from interpreters.sinumerik import circles, cycles, increments, polar, tracyl
+from interpreters.sinumerik import circles, cycles, increments, orientation, polar, tracyl
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
@@ -131,6 +131,7 @@ class Machine:
         self.mcall_new = False            # set in the MCALL block itself (no call there)
         self.pole: tuple[float, float] | None = None   # polar coordinates' pole, program plane, mm
         self.tracyl = None                # the active TRACYL's start mark (tracyl.Mark)
+        self.traori, self.ori, self.unknown = None, orientation.Modes(), set()   # orientation.py
         #: the fast path (:meth:`straight`) may run: no inch, diameter, rotated frame,
         #: compensation, chamfer, MCALL or TRACYL (kept by :meth:`refresh_plain`)
         self.plain = True
@@ -255,10 +256,10 @@ class Machine:
                 self.path_mode = name
             elif grp == 11:
                 block_exact = True
-            elif grp == 100:
+            elif grp in (25, 50, 51, 100):
                 if name == "TRACYL":
                     raise ProgramError("syntax", "TRACYL needs the working diameter: TRACYL(d)", src.at(col))
-                if self.tracyl is not None:
+                if orientation.code(self, name, src.at(col)) and self.tracyl is not None:
                     out.append(tracyl.deactivate(self))
                     self.placeholders = True
             elif grp == 7:
@@ -364,8 +365,8 @@ class Machine:
                 pattern(self, name, args, src, cycles.modal)
             elif name in cycles.NAMES:
                 cycles.run(self, name, args, src)
-            elif name == "TRACYL":
-                out.append(tracyl.activate(self, args, src))
+            elif name in ("TRACYL", "TRAORI", "CYCLE800", "TRANSMIT"):
+                out.extend(orientation.start(self, name, args, src))
                 self.placeholders = True
             elif name.startswith("MCALL"):
                 self.mcall = (name[6:], args) if name != "MCALL" else None
@@ -385,7 +386,8 @@ class Machine:
             polar_words = {k: v.interp[k] for k in ("AP", "RP") if k in v.interp}
             v.axes = polar.words(self, polar_words, v.axes, src)
         arc_words = v.interp and any(k not in CORNER_WORDS and k not in ("AP", "RP") for k in v.interp)
-        if v.axes or (self.motion in ("G2", "G3", "CIP", "CT") and arc_words):
+        ori = arc_words and orientation.words(self, v, src)       # A3= … (an error without TRAORI)
+        if v.axes or (arc_words and (ori or self.motion in ("G2", "G3", "CIP", "CT"))):
             g9 = block_exact and PATH_MODES[self.path_mode] != "exact"
             if g9:  # G9: exact stop at the end of this block only
                 out.append(canon.PathMode(src, mode="exact"))
@@ -402,7 +404,7 @@ class Machine:
         """Whether the fast path may take the next plain block (after any state change)."""
         self.plain = not (self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged
                           or self.corners.held is not None or self.corners.modal
-                          or self.mcall is not None or self.tracyl is not None)
+                          or self.mcall is not None or self.tracyl is not None or self.traori or self.unknown)
 
     def _spindle(self, s: int, src: SourceRef) -> list:
         if s not in self.spindles:
@@ -517,8 +519,7 @@ class Machine:
             left.append(("G41/G42", "tool radius compensation (no G40)"))
         if self.mcall is not None:
             left.append(("MCALL", f"the modal call MCALL {self.mcall[0]} (no MCALL to end it)"))
-        if self.tracyl is not None:
-            left.append(("TRACYL", "TRACYL (no TRAFOOF)"))
+        left += [(m.name, f"{m.name} (no TRAFOOF)") for m in (self.tracyl, self.traori) if m]
         for what, text in left:
             self.notes.append(warning("left_active", f"the program ends with {text} still active", src,
                                       what=what))
@@ -540,11 +541,14 @@ class Machine:
                 if word.name == self.tracyl.rotary:
                     raise ProgramError("syntax", f"{word.name} is the cylinder's unwrapped Y while TRACYL "
                                        "is active (TRAFOOF first)", src.at(word.col))
+        if (self.traori is not None or self.unknown) and orientation.move(self, v, src, suppress):
+            return                                      # under TRAORI (right after it: checked)
         new = None
         if not (suppress or self.inch or self.diameter or self.frames.rotated):
             new = self._plain_targets(v.axes)
         if new is None:
             new = self._targets(v, src, suppress)
+        orientation.learned(self, v.axes, new, suppress)
         for word, _ in v.axes if self.stale else ():
             self.stale.pop(word.name, None)
         motion = self.motion

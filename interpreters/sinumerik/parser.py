@@ -51,7 +51,8 @@ _INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "tur
            "FRCM": "corner", "AP": "polar", "RP": "polar", "I1": "interp", "J1": "interp", "K1": "interp",
            "AR": "interp"}
 _INTERP_UNSUPPORTED = {"ANG"}
-_BUILTINS = {"SETMS", "MSG", "WORKPIECE", "TRACYL"}
+_BUILTINS = {"SETMS", "MSG", "WORKPIECE", "TRACYL", "TRAORI", "CYCLE800", "TRANSMIT"}
+_ORIENT = {"A2", "B2", "C2", "A3", "B3", "C3"}   # orientation words under TRAORI (orientation.py)
 _SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "aux", "P": "repeat"}
 
 
@@ -514,12 +515,12 @@ class BlockParser:
 
     def address(self, t: Token, name: str) -> b.Word:
         """``NAME=value`` for an address (axis, F, S2, M2, T, D, I, CR ...)."""
-        if self.g.is_axis(name):
+        if self.g.is_axis(name) and name not in _ORIENT:
             mode, node = self.moded_value()
             return b.Word(t.col, name, "axis", node, None, mode)
-        if name in _INTERP:
+        if name in _INTERP or name in _ORIENT:
             mode, node = self.moded_value()
-            return b.Word(t.col, name, _INTERP[name], node, None, mode)
+            return b.Word(t.col, name, _INTERP.get(name, "orient"), node, None, mode)
         if name in _INTERP_UNSUPPORTED:
             self.fail("unsupported", f"{name}= is not simulated", t.col)
         if name in _SINGLE:

@@ -42,6 +42,22 @@ class Mark:
     c0: float = 0.0
     y0: float = 0.0
     start: tuple = ()
+    name = "TRACYL"
+
+    def rewrite(self, c, here: dict) -> list:
+        """A motion between the marks in machine axes (``here``: where it starts, unwrapped)."""
+        if isinstance(c, canon.ArcFeed) and "Y" in c.plane[:2]:
+            return chords(c, here, lambda axes: _machine(axes, self))
+        return [replace(c, axes=_machine(c.axes, self))]
+
+    def end(self, machine) -> Mark:
+        """TRAFOOF: positions back to machine axes; the end mark."""
+        return deactivate(machine)
+
+    def begin(self, before: Mark | None, turns: dict) -> Mark | None:
+        """This mark met in :func:`apply` after ``before`` (the active start mark or None):
+        the mark active from here on; ``turns`` may learn whole turns the section made."""
+        return self if self.active else None
 
 
 def activate(machine, args, src: SourceRef) -> Mark:
@@ -55,13 +71,7 @@ def activate(machine, args, src: SourceRef) -> Mark:
     if not d > 1.0 or not math.isfinite(d):
         raise ProgramError("invalid_value", f"TRACYL({args[0]}): the working diameter must be larger "
                            "than 1", src)
-    rotary = next((a.name for a in machine.control.axes if a.kind == "rotary" and a.modulo), None)
-    if rotary is None or "Y" not in machine.pos:
-        raise ProgramError("unsupported", "TRACYL: the machine has no modulo rotary axis (and Y) to "
-                           "unwrap the cylinder with", src)
-    if machine.cutcom.engaged or machine.tracyl is not None or machine.frames.rotated:
-        raise ProgramError("unsupported", "TRACYL while compensation, TRACYL or a rotated frame is "
-                           "active is not simulated (G40, TRAFOOF, ROT first)", src)
+    rotary = spindle_axis(machine, "TRACYL", src)
     k = 360.0 / (math.pi * d)
     c = machine.pos[rotary]
     c0 = 360.0 * round(c / 360.0)
@@ -74,9 +84,25 @@ def activate(machine, args, src: SourceRef) -> Mark:
     return mark
 
 
+def spindle_axis(machine, name: str, src: SourceRef) -> str:
+    """The modulo rotary axis a transformation of the turn-mill (TRACYL, TRANSMIT) turns;
+    ``unsupported`` without one (and Y), or while compensation, another transformation or a
+    rotated frame is active."""
+    rotary = next((a.name for a in machine.control.axes if a.kind == "rotary" and a.modulo), None)
+    if rotary is None or "Y" not in machine.pos:
+        raise ProgramError("unsupported", f"{name}: the machine has no modulo rotary axis (and Y) "
+                           "for the transformation", src)
+    if machine.cutcom.engaged or machine.tracyl is not None or machine.frames.rotated or machine.traori:
+        raise ProgramError("unsupported", f"{name} while compensation, another transformation or a "
+                           "rotated frame is active is not simulated (G40, TRAFOOF, ROT first)", src)
+    return rotary
+
+
 def deactivate(machine) -> Mark:
     """TRAFOOF: positions back to machine axes; returns the end mark."""
     m = machine.tracyl
+    if type(m) is not Mark:                       # another transformation of this kind (TRANSMIT)
+        return m.end(machine)
     pos = dict(machine.pos)
     pos[m.rotary] = m.c0 + pos["Y"] * m.k
     pos["Y"] = m.y0
@@ -93,19 +119,19 @@ def apply(commands: list) -> list:
     out: list = []
     mark: Mark | None = None
     here: dict = {}
+    turns: dict = {}        # whole turns a rotary axis made that the interpreter did not see
     for c in commands:
         if isinstance(c, Mark):
-            mark = c if c.active else None
             if c.active:
                 here = dict(c.start)
+            mark = c.begin(mark, turns)
             continue
         if mark is None or not isinstance(c, canon.MOTIONS):
+            if turns and isinstance(c, canon.MOTIONS):
+                c = replace(c, axes={k: v + turns.get(k, 0.0) for k, v in c.axes.items()})
             out.append(c)
             continue
-        if isinstance(c, canon.ArcFeed) and "Y" in c.plane[:2]:
-            out.extend(_chords(c, here, mark))
-        else:
-            out.append(replace(c, axes=_machine(c.axes, mark)))
+        out.extend(mark.rewrite(c, here))
         here = dict(c.axes)
     return out
 
@@ -117,8 +143,9 @@ def _machine(axes, m: Mark) -> dict:
     return out
 
 
-def _chords(arc: canon.ArcFeed, here: dict, m: Mark) -> list:
-    """An arc of the unwrapped surface as straight feeds (machine axes) within ``tol.chord``."""
+def chords(arc: canon.ArcFeed, here: dict, convert) -> list:
+    """An arc (from ``here``) as straight feeds within ``tol.chord``, each end point's axes put
+    through ``convert`` (program → machine axes)."""
     a, b, n = arc.plane
     ca, cb = arc.center
     r = math.hypot(here[a] - ca, here[b] - cb)
@@ -139,5 +166,5 @@ def _chords(arc: canon.ArcFeed, here: dict, m: Mark) -> list:
             t = t0 + sign * sweep * f
             axes = {k: here[k] + (arc.axes[k] - here[k]) * f for k in arc.axes}
             axes[a], axes[b] = ca + r * math.cos(t), cb + r * math.sin(t)
-        out.append(canon.LinearFeed(arc.source, axes=_machine(axes, m), feed=arc.feed))
+        out.append(canon.LinearFeed(arc.source, axes=convert(axes), feed=arc.feed))
     return out

@@ -79,14 +79,14 @@ def test_h_functions_and_setms_alone(tmp_path):
 
 
 def test_a_siemens_cycle_not_simulated_is_unsupported_naming_it(tmp_path):
-    text = "G0 X1\nCYCLE800(1,\"TC1\",200000,57,0,0,0,0,0,0,0,0,0,-1,100,1)\nM30\n"
+    text = "G0 X1\nCYCLE996(1,2,3)\nM30\n"
     f = check(tmp_path, text, S5)
     assert [(x.kind, x.line, x.source.column) for x in f] == [("unsupported", 2, 1)]
-    assert "CYCLE800" in f[0].message
+    assert "CYCLE996" in f[0].message
     assert error_of(run(tmp_path, text, S5)).kind == "unsupported"
     # a program of that name beside the main one is called instead, as the control searches
-    sub = "PROC CYCLE800(INT A, INT B)\nG0 X=A+B\nM17\n"
-    r = ok(tmp_path, "CYCLE800(1,2)\nM30\n", S5, CYCLE800_DOT_SPF=sub)
+    sub = "PROC CYCLE996(INT A, INT B)\nG0 X=A+B\nM17\n"
+    r = ok(tmp_path, "CYCLE996(1,2)\nM30\n", S5, CYCLE996_DOT_SPF=sub)
     assert moves(r)[-1].axes["X"] == 3.0
 
 

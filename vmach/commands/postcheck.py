@@ -22,6 +22,7 @@ from vmach.commands.fk import numbers, open_model
 from vmach.errors import InputError
 from vmach.files import input_file
 from vmach.machine.cl import read_cl
+from vmach.machine.oriented import resolve as resolve_orientation
 from vmach.machine.postcheck import (
     TOL_ANGLE,
     TOL_POSITION,
@@ -107,9 +108,11 @@ def run(args: argparse.Namespace) -> int:
     cl = read_cl(args.cl)
     dialect = interpreters.dialect_for(program, args.dialect, model.control.dialect)
     result = dialect.run(str(program), model.control, RunOptions())
-    moves = moves_from_commands(result.commands, model.axes, model.home)
+    # a TRAORI program: its blocks' poses through the model's transformation (machine/oriented.py)
+    commands, oriented = resolve_orientation(result.commands, model, ends_only=True)
+    moves = moves_from_commands(commands, model.axes, model.home)
     check = postcheck(model, cl, moves, tol_position=tol_p, tol_angle=tol_a, window=WINDOW)
-    findings = list(result.findings) + list(check.findings)
+    findings = list(result.findings) + oriented + list(check.findings)
     paired = check.move >= 0
     summary = {
         "poses": len(cl),

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
 import interpreters
-from vmach.canon import MOTIONS, RunOptions, RunResult, format_json, format_text
+from vmach.canon import MOTIONS, RunOptions, RunResult, dumps, format_json, format_text
 from vmach.errors import InputError
 from vmach.files import input_file
 from vmach.output import atomic_writer
@@ -129,7 +128,7 @@ def _json_line(cmd, drives: dict | None) -> str:
         return format_json(cmd)
     row = cmd.to_json()
     row["drives"] = drives
-    return json.dumps(row, ensure_ascii=False)
+    return dumps(row)
 
 
 def _library(program: Path, tools: str | None):
@@ -161,10 +160,11 @@ def _drive_values(model_path: Path | None, result: RunResult) -> dict[int, dict]
     home = dict(zip(model.axes, model.home, strict=True))
     q = np.array([[result.commands[i].axes.get(a, home[a]) for a in model.axes] for i in idx])
     values, ok = model.drive_values(q)
+    known = ~np.isnan(q).any(axis=1)     # nan: a position only the machine knows (after TRAORI)
     out = {}
     for row, i in enumerate(idx):
         out[i] = {d: (float(v[row]) if ok[row] else None) for d, v in values.items()}
     result.findings.extend(
-        unreachable_findings(ok, sources=[result.commands[i].source for i in idx], move_index=idx)
+        unreachable_findings(ok | ~known, sources=[result.commands[i].source for i in idx], move_index=idx)
     )
     return out

@@ -1,0 +1,148 @@
+"""CYCLE800 (swivel plane, #35): the frame and the rotary positioning the control makes, then a
+pocket milled in the swivelled plane lands where the plane says — checked on the exported part
+on the table-table mills s5d (B/C) and mill5ac (A/C)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+from nc import error_of, run
+from scipy.spatial.transform import Rotation
+
+from vmach.canon import MOTIONS, OrientedMove, SetFrame, Transformation
+from vmach.cli import main
+from vmach.machine import load_model
+from vmach.machine.oriented import resolve
+
+#: the five-axis fixtures' Ø6 flat end mill "EM6"
+TOOLS = Path(__file__).resolve().parents[2] / "fixtures" / "five_axis" / "tools.toml"
+
+# a 10 x 10 pocket 3 mm deep below the plane turned 20° about X through (0, 4, 0)
+POCKET = """G17 G90 G0 X0 Y0 Z60 {rot0} C0
+T="EM6" D1
+S6000 M3
+CYCLE800(1,"TC1",0,57,0,4,0,20,0,0,0,0,0,{dir},100,1)
+G0 X0 Y0 Z5
+G1 Z-3 F300
+X-2 Y-2
+X2
+Y2
+X-2
+Y-2
+G0 Z10
+CYCLE800()
+M5
+M30
+"""
+
+
+def swivelled(machine: str, body: str, tmp_path):
+    m = load_model(machine)
+    r = run(tmp_path, body, m.control)
+    assert r.completed, [f.render() for f in r.findings]
+    cmds, found = resolve(r.commands, m)
+    return m, r, cmds, found
+
+
+@pytest.mark.parametrize("machine, rot0", [("s5d", "B0"), ("mill5ac", "A0")])
+def test_the_tool_stands_normal_to_the_swivelled_plane(tmp_path, machine, rot0):
+    m, r, cmds, found = swivelled(machine, POCKET.format(rot0=rot0, dir=-1), tmp_path)
+    assert found == []
+    marks = [(c.name, c.source.line) for c in r.commands if isinstance(c, Transformation)]
+    assert marks == [("CYCLE800", 4), ("TRAFOOF", 13)]
+    frame = [c for c in r.commands if isinstance(c, SetFrame) and c.source.line == 4][-1]
+    rx = Rotation.from_euler("x", 20, degrees=True).as_matrix()
+    assert np.allclose(np.reshape(frame.rotation, (3, 3)), rx, atol=1e-12)
+    assert frame.origin["Y"] == pytest.approx(4.0)
+    normal = rx @ (0, 0, 1)
+    for line in range(5, 13):               # every move in the plane: tool along its normal
+        q = np.array([[c.axes[a] for a in m.axes] for c in cmds
+                      if isinstance(c, MOTIONS) and c.source.line == line])
+        pose = m.fk(q)
+        assert np.abs(pose.axis - normal).max() < 1e-9
+    # the plane's point (2, 2, -3) is where the tip goes on line 9
+    q = [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 9][-1]
+    tip = m.fk(np.array([[q.axes[a] for a in m.axes]])).tip[0]
+    assert np.abs(tip - ((0, 4, 0) + rx @ (2, 2, -3))).max() < 1e-9
+    # the retraction before swivelling: Z to its travel's end, the others still
+    retract = [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 4][0]
+    assert retract.axes["Z"] == m.limits[m.axes.index("Z")][1]
+
+
+def test_direction_and_direct_mode(tmp_path):
+    """_DIR −1/+1 chooses the lower/higher value of rotary axis 1 (A on mill5ac: −20 or +20 —
+    both tilt the tool onto the plane's normal); mode 192 positions the rotary axes directly."""
+    m = load_model("mill5ac")
+    a = {}
+    for d in (-1, 1):
+        _, _, cmds, _ = swivelled("mill5ac", POCKET.format(rot0="A0", dir=d), tmp_path)
+        a[d] = [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 4][-1].axes
+    assert a[-1]["A"] == pytest.approx(-20) and a[1]["A"] == pytest.approx(20)
+    assert a[-1]["C"] % 360 == pytest.approx(0) and a[1]["C"] % 360 == pytest.approx(180)
+    body = 'G0 X0 Y0 Z60 A0 C0\nCYCLE800(0,"TC1",0,192,0,0,0,30,45,0,0,0,0,1,100,1)\nG0 X0 Y0 Z20\nM30\n'
+    _, r, cmds, _ = swivelled("mill5ac", body, tmp_path)
+    end = [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 2][-1].axes
+    assert (end["A"], end["C"]) == (pytest.approx(30), pytest.approx(45))
+    q = [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 3][-1]
+    pose = m.fk(np.array([[q.axes[x] for x in m.axes]]))
+    frame = [c for c in r.commands if isinstance(c, SetFrame)][-1]
+    rot = np.reshape(frame.rotation, (3, 3))
+    assert np.abs(pose.axis[0] - rot[:, 2]).max() < 1e-9          # the tool along the frame's Z
+    assert np.abs(pose.tip[0] - rot @ (0, 0, 20)).max() < 1e-9
+    assert any(isinstance(c, OrientedMove) and c.hold_axes for c in r.commands)
+
+
+def test_solid_and_projection_angles(tmp_path):
+    s5d = load_model("s5d").control
+    for mode, args, expect in (
+            (64, "30,40,0", Rotation.from_euler("ZY", [30, 40], degrees=True).as_matrix()),
+            (128 + 57, "0,30,0", Rotation.from_euler("Y", 30, degrees=True).as_matrix())):
+        body = f'G0 X0 Y0 Z50 B0 C0\nCYCLE800(0,"",0,{mode},0,0,0,{args},0,0,0,0,100,1)\nM30\n'
+        r = run(tmp_path, body, s5d)
+        frame = [c for c in r.commands if isinstance(c, SetFrame)][-1]
+        assert np.allclose(np.reshape(frame.rotation, (3, 3)), expect, atol=1e-12), mode
+
+
+def test_errors(tmp_path):
+    f = error_of(run(tmp_path, 'G0 X0 Y0 Z50 B0 C0\nCYCLE800(0,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\n'
+                     'G54\nG0 X0 Y0 Z5\nM30\n', load_model("s5d").control))
+    assert (f.kind, f.line) == ("unsupported", 4)
+    f = error_of(run(tmp_path, 'CYCLE800(4,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\nM30\n',
+                     load_model("hybrid5").control))          # a B/C head: tool direction tilts
+    assert (f.kind, f.line) == ("unsupported", 1)
+    r = run(tmp_path, 'G0 X0 Y0 Z10 B0 C0\nCYCLE800(5,"",0,57,0,0,0,10,0,0,0,0,0,1,25,1)\nM30\n',
+            load_model("s5d").control)                           # table-table: +Z by _FR_I
+    assert [c.axes["Z"] for c in r.commands if isinstance(c, MOTIONS)] == [10, 35]
+    f = error_of(run(tmp_path, 'CYCLE800(1,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\nM30\n',
+                     load_model("turnmill").control))
+    assert (f.kind, f.line) == ("unsupported", 1)
+
+
+@pytest.mark.parametrize("machine, rot0", [("s5d", "B0"), ("mill5ac", "A0")])
+def test_a_pocket_in_the_swivelled_plane_lands_where_the_plane_says(tmp_path, machine, rot0):
+    prog = tmp_path / "POCKET.MPF"
+    prog.write_text(POCKET.format(rot0=rot0, dir=-1))
+    part = tmp_path / "part.stl"
+    assert main(["verify", str(prog), "--machine", machine, "--tools", str(TOOLS),
+                 "--stock", "box:x=40,y=40,z=30", "--export", str(part), "--out", str(tmp_path / "o"),
+                 "--no-images", "--quiet"]) == 0
+    mesh = trimesh.load(part)
+    rx = Rotation.from_euler("x", 20, degrees=True).as_matrix()
+    origin = np.array([0.0, 4.0, 0.0])
+
+    def walls(depth):
+        """The pocket's loops in the plane z' = depth, in the plane's coordinates."""
+        sec = mesh.section(plane_origin=origin + rx @ (0, 0, depth), plane_normal=rx @ (0, 0, 1))
+        if sec is None:
+            return []
+        loops = [(loop - origin) @ rx for loop in sec.discrete]
+        return [lp for lp in loops if np.abs(lp[:, :2]).max() < 8]
+
+    (loop,) = walls(-2.0)                               # 10 x 10 walls, at z' = −2 exactly
+    assert np.abs(loop[:, 2] + 2.0).max() < 1e-6
+    lo, hi = loop[:, :2].min(axis=0), loop[:, :2].max(axis=0)
+    assert lo == pytest.approx([-5.0, -5.0], abs=0.02) and hi == pytest.approx([5.0, 5.0], abs=0.02)
+    assert walls(-3.2) == []                            # the floor at z' = −3
