@@ -22,6 +22,7 @@ from functools import partial
 import numpy as np
 
 from vmach.checks.stock_events import CheckedPath
+from vmach.checks.turning_events import turn_checked
 from vmach.errors import ProgramError
 from vmach.findings import Finding, warning
 from vmach.stock import cusps
@@ -96,6 +97,7 @@ def sample_rows(start: np.ndarray, end: np.ndarray, rotary: np.ndarray, fk,
 #: mm: how far a sampled rotary step's sweep may bulge beyond the boxes of its two ends (a
 #: point ρ from the rotation axis leaves its chord by ρ(1 − cos 1°) ≤ 1 mm for ρ ≤ 6.5 m)
 REACH_SLACK = 1.0
+_NO_OUTLINE = (np.array([0.0, 1e-9]), np.zeros(2))
 
 
 def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_angle,
@@ -115,11 +117,21 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
     axes = tuple(model.axes)
     rotary = np.array([table.rotary[table.axes.index(a)] if a in table.axes else False for a in axes])
     paths = _sampled_paths(table, model, library, rotary, res, angle, step)
-    zr = [cusps.outline(found) for _, _, found, _, _, _ in paths]
+    # a turning path claims no coverage for the milling paths' strategies (a zero-radius outline)
+    zr = [_NO_OUTLINE if getattr(found, "turning", False) else cusps.outline(found)
+          for _, _, found, _, _, _ in paths]
     sweeps = Sweeps([Motion(q, model.fk, np.asarray(pose.tip, dtype=float), _unit(pose.axis), *o)
                      for (_, _, _, q, _, pose), o in zip(paths, zr, strict=True)])
     for i, (a, b, found, q, k, pose) in enumerate(paths):
         rows = a + np.r_[0, np.repeat(np.arange(b - a), k)]     # each pose's row (a step: the row it ends)
+        if getattr(found, "turning", False):      # the workpiece turns under a fixed turning tool
+            if checks:
+                turn_checked(stock, found, table, rows, np.asarray(pose.tip, dtype=float), res)
+            else:
+                stock.turn(found, pose.tip, rows)
+            res.moves += b - a
+            res.samples += len(q)
+            continue
         if checks:
             CheckedPath(stock, found, table, a, b, k, pose, res, clearance, partial(_between, q, model.fk),
                         sweeps.others(i), rows).run()
