@@ -28,7 +28,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import sandbox
+from interpreters.sinumerik import sandbox, surface
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, compile_expr
@@ -227,6 +227,9 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
                                src.at(item.col), alarm=n)
 
         return alarm
+    if name == "LIMS":                       # the speed limit under G96 (interpreters/sinumerik/surface.py)
+        f = fs[0]
+        return lambda v: surface.lims(it.machine, _number(f(), name), src.at(item.col))
     effect = COMMANDS[name].effect if name in COMMANDS else CODES[name].group_name
     note = it.recorder.note
 
