@@ -371,6 +371,26 @@ class Coolant(Command):
 
 
 @dataclass(frozen=True, slots=True)
+class SurfaceSpeed(Command):
+    """Constant cutting speed (Sinumerik G96 S… LIMS=…, RS274/NGC G96 D… S…) on, or off (G97).
+
+    spindle : the spindle whose speed follows the transverse axis (the master spindle).
+    speed : m/min (feet/min converted), 0 when off. limit : rev/min, the speed's upper bound
+        (LIMS, the D word), 0 for none. axis : the transverse axis whose radius sets the
+        speed, n = 1000·speed / (2π·r) (the radius in mm, canonical X is a radius).
+    """
+
+    spindle: int = 1
+    speed: float = 0.0
+    limit: float = 0.0
+    axis: str = "X"
+    kind: ClassVar[str] = "surface_speed"
+
+    def fields(self) -> dict[str, Any]:
+        return {"spindle": self.spindle, "speed": self.speed, "limit": self.limit, "axis": self.axis}
+
+
+@dataclass(frozen=True, slots=True)
 class FeedMode(Command):
     """Feed interpretation: ``"per_minute"``, ``"per_rev"`` or ``"inverse_time"``."""
 

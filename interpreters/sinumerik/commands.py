@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import approach, sandbox
 from interpreters.sinumerik import blocks as b
+from interpreters.sinumerik import surface
 from interpreters.sinumerik.cycles import NAMES as MILLING
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
@@ -278,6 +279,9 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
                                src.at(item.col), alarm=n)
 
         return alarm
+    if name == "LIMS":                       # the speed limit under G96 (interpreters/sinumerik/surface.py)
+        f = fs[0]
+        return lambda v: surface.lims(it.machine, _number(f(), name), src.at(item.col))
     effect = COMMANDS[name].effect if name in COMMANDS else CODES[name].group_name
     note = it.recorder.note
 

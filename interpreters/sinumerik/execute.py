@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from interpreters.sinumerik import circles, cycles, increments, orientation, polar, tracyl
+from interpreters.sinumerik import circles, cycles, increments, orientation, polar, surface, tracyl
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
@@ -36,6 +36,7 @@ FEED_MODES = {
     "G93": "inverse_time",
     "G94": "per_minute",
     "G95": "per_rev",
+    "G96": "per_rev",
     "G97": "per_rev",
     "G971": "per_minute",
     "G972": "per_minute",
@@ -120,6 +121,7 @@ class Machine:
         self.path_mode = "G64"
         self.master = control.master_spindle
         self.spindles: dict[int, list] = {s: [0.0, "stop"] for s in control.spindles}
+        self.surface = surface.Surface()  # G96 constant cutting speed
         self.coolant: set[str] = set()
         self.tool: str | None = None
         self.edge = 0                   # active D number (D1 after a tool change)
@@ -234,6 +236,7 @@ class Machine:
                 if mode != self.feed_mode:
                     self.feed_mode = mode
                     out.append(canon.FeedMode(src, mode=mode))
+                surface.feed_group(self, name, src)
             elif grp == 29:
                 self.diameter = name in ("DIAMON", "DIAM90")
                 self.diam90 = name == "DIAM90"
@@ -288,7 +291,7 @@ class Machine:
             if spindle is None and dwell:
                 continue
             s = self.master if spindle is None else spindle
-            self._spindle(s, src)[0] = float(value)
+            self._spindle(s, src)[0] = surface.speed(self, s, float(value), src)
             if value < 0:
                 raise ProgramError("invalid_value", f"negative spindle speed {value}", src)
             changed[s] = None

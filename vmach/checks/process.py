@@ -54,7 +54,8 @@ def unknown_tools(commands: Sequence[canon.Command], library) -> list[Finding]:
     return out
 
 
-def spindle_off_cuts(table: MoveTable, tool_spindle: int | None, reach=None) -> list[Finding]:
+def spindle_off_cuts(table: MoveTable, tool_spindle: int | None, reach=None,
+                     turning: np.ndarray | None = None) -> list[Finding]:
     """``spindle_off_cut`` for feed moves while the spindle driving the tool stands still.
 
     tool_spindle : the spindle that turns the cutter (the turn-mill's live-tool spindle 2);
@@ -63,17 +64,22 @@ def spindle_off_cuts(table: MoveTable, tool_spindle: int | None, reach=None) -> 
         warning), else a function ``rows (k,) int -> (k,) bool``: whether those moves reach
         into the stock's envelope (:func:`vmach.checks.envelope.in_envelope`); only they are
         errors, a feed in the air is none.
+    turning : (n,) bool or None — rows the workpiece's turning cuts (a turning tool, or no
+        tool at all, on a machine with a tool spindle): their spindle is the master spindle
+        (:func:`turning_rows`).
     """
     n = len(table)
     if n == 0:
         return []
     cutting = table.kind != TRAVERSE
+    main = np.zeros(n, bool) if turning is None or tool_spindle is None else np.asarray(turning, bool)
     if tool_spindle is None:
         turning = table.master_state()[1] != 0
     elif tool_spindle in table.spindles:
         turning = table.direction[:, table.spindles.index(tool_spindle)] != 0
     else:
         turning = np.zeros(n, bool)
+    turning = np.where(main, table.master_state()[1] != 0, turning)
     others = (table.direction != 0).any(axis=1) & ~turning
     off = cutting & ~turning
     if reach is not None and off.any():
@@ -82,7 +88,8 @@ def spindle_off_cuts(table: MoveTable, tool_spindle: int | None, reach=None) -> 
     out = []
     for a, b in runs(off):
         wrong = bool(others[a])
-        which = f"spindle {tool_spindle}" if tool_spindle is not None else "the master spindle"
+        own = tool_spindle is not None and not main[a]
+        which = f"spindle {tool_spindle}" if own else "the master spindle"
         msg = (
             f"feed move with {which} stopped"
             + (" while another spindle turns" if wrong else "")
@@ -99,6 +106,19 @@ def spindle_off_cuts(table: MoveTable, tool_spindle: int | None, reach=None) -> 
                 {"moves": b - a + 1, "last_line": int(table.line[b]), "wrong_spindle": wrong},
             )
         )
+    return out
+
+
+def turning_rows(table: MoveTable, library) -> np.ndarray:
+    """(n,) bool: rows whose tool is a turning tool (:class:`vmach.tooling.turning.TurningTool`)
+    or that have no tool — on a turn-mill the main spindle's turning is what cuts there; a
+    tool the library lacks is taken for a milling cutter, as before."""
+    tool = np.asarray(table.tool)
+    out = tool < 0
+    if library is not None:
+        for i, name in enumerate(table.tools):
+            if getattr(library.lookup(name), "turning", False):
+                out |= tool == i
     return out
 
 

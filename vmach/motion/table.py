@@ -44,6 +44,9 @@ class MoveTable:
         active for its command and the row is the command's last (an arc's inner chords never)
     command : (n,) int32 — index of the canonical command in ``commands``
     line : (n,) int32 — 1-based source line; file : (n,) int16 — index into ``files``
+    surface : (n, 3) float — constant cutting speed (G96) of the master spindle during the move:
+        m/min (0: off), its limit rev/min (0: none), the column of the axis whose radius sets
+        the speed (:class:`vmach.canon.SurfaceSpeed`); None when the program has none
     """
 
     axes: tuple[str, ...]
@@ -66,6 +69,7 @@ class MoveTable:
     tools: tuple[str, ...]
     files: tuple[str, ...]
     commands: Sequence[canon.Command]
+    surface: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.kind)
@@ -138,6 +142,8 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
     starts, ends, kinds, feeds, modes, tls, offs, spd, drs, mst, cmds, lines, fls, stops = (
         [] for _ in range(14)
     )
+    css = (0.0, 0.0, -1.0)        # G96: m/min, rev/min limit, the transverse axis' column
+    srf: list = []
 
     def add(a, b, k, f, ci, c, last=True):
         starts.append(a)
@@ -151,6 +157,7 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
         drs.append(direction.copy())
         mst.append(master)
         stops.append(exact and last)
+        srf.append(css)
         cmds.append(ci)
         lines.append(c.source.line)
         p = c.source.path
@@ -197,6 +204,8 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
             direction[scol[c.spindle]] = DIRECTIONS[c.direction]
         elif isinstance(c, canon.MasterSpindle):
             master = c.spindle
+        elif isinstance(c, canon.SurfaceSpeed):
+            css = (c.speed, c.limit, float(col.get(c.axis, -1)))
         elif isinstance(c, canon.FeedMode):
             feed_mode = FEED_MODES.index(c.mode)
         elif isinstance(c, canon.PathMode):
@@ -246,6 +255,7 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
         tools=tuple(tools),
         files=tuple(files),
         commands=tuple(commands),
+        surface=arr(srf, float, (0, 3)) if any(c[0] > 0 for c in srf) else None,
     )
 
 

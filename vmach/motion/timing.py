@@ -157,6 +157,7 @@ def cycle_time(table: MoveTable, model: Any, *, acceleration: bool = True,
     rate, accel = _axis_limits(table, model, notes, acceleration)
     events, stop_cmds = _events(table.commands, timing, model.control.master_spindle, notes)
     seconds, v0, v1 = _motion(table, rate, accel, timing, stop_cmds, notes, acceleration)
+    _surface_note(table, notes)
 
     rapid = table.kind == TRAVERSE
     op_starts = [e.command for e in events if e.kind == "tool_change"]
@@ -197,7 +198,7 @@ def _axis_limits(table: MoveTable, model: Any, notes: list[str],
             accels[i] = ma[j]
         else:
             no_accel.append(a)
-    moved = np.any(table.end != table.start, axis=0) if len(table) else np.zeros(0, bool)
+    moved = np.any(table.end != table.start, axis=0) if len(table) else np.zeros(len(table.axes), bool)
     no_rate = [a for a in no_rate if moved[table.axes.index(a)]]
     no_accel = [a for a in no_accel if moved[table.axes.index(a)]]
     if no_rate:
@@ -288,7 +289,7 @@ def _programmed_speed(table: MoveTable, s: np.ndarray) -> np.ndarray:
     """
     feed = np.nan_to_num(table.feed, nan=0.0)
     block_length = np.bincount(table.command, s)[table.command]
-    master_speed = table.master_state()[0]
+    master_speed = surface_speed(table, table.master_state()[0])
     mode = table.feed_mode
     v = np.select(
         [mode == PER_MINUTE, mode == PER_REV, mode == INVERSE_TIME],
@@ -299,6 +300,57 @@ def _programmed_speed(table: MoveTable, s: np.ndarray) -> np.ndarray:
 
 
 # ------------------------------------------------------------------------------------------------
+
+
+def surface_speed(table: MoveTable, speed: np.ndarray) -> np.ndarray:
+    """(n,) rev/min: the master spindle's ``speed`` (n,), where constant cutting speed (G96)
+    is on the speed that gives each move its time: n(r) = 1000·v / (2π·r), at most the limit,
+    follows the transverse axis' radius r along the move, and a feed per revolution f takes
+    ∫ ds / (f·n(r)) — so the move's speed is 1 / mean(1/n) over it (exact: 1/n is the larger of
+    1/limit and 2π·r/(1000·v), linear in r, and r is linear along a move; a move across the
+    axis is taken in its two halves)."""
+    if table.surface is None or not len(table):
+        return speed
+    v, limit, col = table.surface[:, 0], table.surface[:, 1], table.surface[:, 2].astype(int)
+    on = (v > 0) & (col >= 0)
+    if not on.any():
+        return speed
+    rows = np.flatnonzero(on)
+    c = col[rows]
+    r0, r1 = table.start[rows, c], table.end[rows, c]
+    a = np.where(limit[rows] > 0, 1.0 / np.where(limit[rows] > 0, limit[rows], 1.0), 0.0)
+    b = 2.0 * math.pi / (1000.0 * v[rows])
+    across = r0 * r1 < 0
+    t0 = np.where(across, np.abs(r0) / np.maximum(np.abs(r0) + np.abs(r1), 1e-300), 1.0)
+    whole = _mean_max(a, b * np.abs(r0), np.where(across, 0.0, b * np.abs(r1)))
+    rest = _mean_max(a, np.zeros_like(r0), b * np.abs(r1))
+    inv = np.where(across, t0 * whole + (1.0 - t0) * rest, whole)
+    out = np.array(speed, dtype=float)
+    out[rows] = np.where(inv > 0, 1.0 / np.where(inv > 0, inv, 1.0), np.inf)
+    return out
+
+
+def _surface_note(table: MoveTable, notes: list[str]) -> None:
+    """Say how constant cutting speed (G96) was timed, with the speeds it reached."""
+    if table.surface is None:
+        return
+    on = (table.surface[:, 0] > 0) & (table.kind != TRAVERSE) & (table.feed_mode == PER_REV)
+    if not on.any():
+        return
+    n = surface_speed(table, table.master_state()[0])[on]
+    limited = int((table.surface[on, 1] > 0).sum())
+    notes.append(f"G96 constant cutting speed on {int(on.sum())} feed move(s): the spindle speed follows "
+                 "the transverse axis, n = 1000·v/(π·D)" + (", at most LIMS" if limited else "")
+                 + f" ({n.min():.0f}–{n.max():.0f} rev/min, each move timed at 1/mean(1/n) along it)")
+
+
+def _mean_max(a: np.ndarray, g0: np.ndarray, g1: np.ndarray) -> np.ndarray:
+    """(k,) the mean over t in [0, 1] of max(a, g0 + (g1 − g0)·t)."""
+    lo, hi = np.minimum(g0, g1), np.maximum(g0, g1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = np.where(hi > lo, (hi - a) / (hi - lo), 0.0)        # the share where the line is above a
+    part = (1.0 - f) * a + f * (a + hi) / 2.0
+    return np.where(lo >= a, (g0 + g1) / 2.0, np.where(hi <= a, a, part))
 
 
 def _events(commands, timing: TimingSpec, master: int,

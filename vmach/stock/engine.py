@@ -22,7 +22,7 @@ Solid = m3d.Manifold
 __all__ = [
     "EMPTY_BOX", "Solid", "StockError", "box", "box_of", "bounds", "centroid", "check", "cylinder", "empty",
     "from_arrays", "from_mesh", "hull", "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles",
-    "slice_polygons",
+    "revolved", "slice_polygons",
     "split", "subtract", "subtract_checked", "to_arrays", "to_mesh", "transform", "trim", "union", "volume",
 ]
 
@@ -318,3 +318,38 @@ def slice_polygons(solid: Solid, z: float) -> list[np.ndarray]:
     """Section by the plane Z = z: closed contours, each (k, 2) float, mm (outer contours
     counter-clockwise, holes clockwise)."""
     return [np.asarray(p, dtype=float) for p in solid.slice(float(z)).to_polygons()]
+
+
+def revolved(hulls: Sequence[np.ndarray], segments: int, box: Sequence[float] | None = None,
+             scale: float = 1.0) -> Solid:
+    """The solid of revolution about Z of the union of the convex hulls of ``hulls``, each
+    (k, 2) float points ``(r, z)`` mm (a turning tool's 2-D sweep; what lies at r < 0 is
+    mirrored onto r > 0 — the far side of the axis turns through the same circles).
+
+    segments : polygon count of the revolution (vertices at angles 2πi/segments from +X, as
+        :func:`cylinder`'s). box : (r_max, z_min, z_max) — the section is clipped to it first
+        (the stock's extent: what lies outside removes nothing). scale : radial factor applied
+        to the section (the straddling polygon's vertex radius over the true radius).
+    Empty when nothing is left in the half-plane.
+    """
+    parts = [m3d.CrossSection.hull_points(np.ascontiguousarray(h, dtype=np.float64)) for h in hulls
+             if len(h) >= 3]
+    if not parts:
+        return empty()
+    cs = m3d.CrossSection.batch_boolean(parts, m3d.OpType.Add) if len(parts) > 1 else parts[0]
+    lo = cs.bounds()[0]
+    if lo < 0:                      # what lies across the axis turns there too: mirrored onto r >= 0
+        far = max(abs(lo), abs(cs.bounds()[2])) + 1.0
+        y0, y1 = cs.bounds()[1] - 1.0, cs.bounds()[3] + 1.0
+        neg = cs ^ m3d.CrossSection.square((far, y1 - y0)).translate((-far, y0))
+        cs = cs + neg.mirror((1.0, 0.0))
+    if box is not None:
+        r_max, z0, z1 = (float(v) for v in box)
+        if r_max <= 0 or z1 <= z0:
+            return empty()
+        cs = cs ^ m3d.CrossSection.square((r_max, z1 - z0)).translate((0.0, z0))
+    if scale != 1.0:
+        cs = cs.scale((float(scale), 1.0))
+    if cs.is_empty() or cs.area() <= 0:
+        return empty()
+    return m3d.Manifold.revolve(cs, int(segments))

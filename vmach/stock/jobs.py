@@ -69,7 +69,17 @@ class ColumnJob:
     rows: tuple[int, int] = NO_ROWS
 
 
-Job = Placed | Runs | Fan | ColumnJob
+@dataclass(frozen=True, eq=False)
+class Revolved:
+    """A turning pass (:mod:`vmach.stock.strategies.revolved`): the convex 2-D point sets
+    ``hulls``, each (k, 2) ``(r, z)`` mm — a turning tool's cross-section at the two ends of a
+    step — whose union, revolved about the spindle axis, is what the pass removes."""
+
+    hulls: list[np.ndarray]
+    rows: tuple[int, int] = NO_ROWS
+
+
+Job = Placed | Runs | Fan | ColumnJob | Revolved
 
 
 @dataclass(frozen=True, eq=False)

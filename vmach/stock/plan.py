@@ -25,7 +25,7 @@ from vmach.stock.make_fans import run_frames
 from vmach.stock.stats import CutStats
 from vmach.stock.strategies import cusps as cusp_poses
 from vmach.stock.strategies import fans as fan_runs
-from vmach.stock.strategies import fins, runs
+from vmach.stock.strategies import fins, revolved, runs
 from vmach.stock.sweep import plan, run_extremes, stacked_runs
 from vmach.stock.view import View
 from vmach.tol import tol
@@ -108,6 +108,16 @@ class Planner:
             yield ts, jobs
             t0 = time.perf_counter()
         self.stats.sweep_seconds += time.perf_counter() - t0
+
+    def turn(self, section: np.ndarray, tips: np.ndarray, rows: np.ndarray | None = None) -> list[Job]:
+        """The revolved jobs of a turning path (:mod:`vmach.stock.strategies.revolved`): the
+        tool's cross-section ``section`` (k, 2) ``(x, z)`` mm from its tip, at ``tips`` (n, 3)
+        work frame mm (their distance from the spindle axis and Z)."""
+        tips, _ = _checked(tips, np.broadcast_to([1.0, 0.0, 0.0], np.shape(tips)), rows)
+        self.stats.paths += 1
+        self.stats.poses += len(tips)
+        rows = None if rows is None else np.asarray(rows, dtype=int)
+        return revolved.claim(section, revolved.half_plane(tips), rows)
 
     def _claim(self, tool, ts: ToolSolid, tips, axes, between, others, rows, t0: float):
         """The strategies, in their order, over one path: (_Path, t0 less the retake's time)."""

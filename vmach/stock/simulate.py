@@ -22,6 +22,7 @@ from functools import partial
 import numpy as np
 
 from vmach.checks.stock_events import CheckedPath
+from vmach.checks.turning_events import turn_checked
 from vmach.errors import ProgramError
 from vmach.findings import Finding, warning
 from vmach.stock import cusps
@@ -115,16 +116,27 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
     axes = tuple(model.axes)
     rotary = np.array([table.rotary[table.axes.index(a)] if a in table.axes else False for a in axes])
     paths = _sampled_paths(table, model, library, rotary, res, angle, step)
-    zr = [cusps.outline(found) for _, _, found, _, _, _ in paths]
-    sweeps = Sweeps([Motion(q, model.fk, np.asarray(pose.tip, dtype=float), _unit(pose.axis), *o)
-                     for (_, _, _, q, _, pose), o in zip(paths, zr, strict=True)])
+    # the coverage index knows the milling paths only (a turning path's insert covers no rim band)
+    milling = [i for i, p in enumerate(paths) if not getattr(p[2], "turning", False)]
+    index = {i: j for j, i in enumerate(milling)}
+    sweeps = Sweeps([Motion(q, model.fk, np.asarray(pose.tip, dtype=float), _unit(pose.axis),
+                            *cusps.outline(found))
+                     for (_, _, found, q, _, pose) in (paths[i] for i in milling)])
     for i, (a, b, found, q, k, pose) in enumerate(paths):
         rows = a + np.r_[0, np.repeat(np.arange(b - a), k)]     # each pose's row (a step: the row it ends)
+        if getattr(found, "turning", False):      # the workpiece turns under a fixed turning tool
+            if checks:
+                turn_checked(stock, found, table, rows, np.asarray(pose.tip, dtype=float), res)
+            else:
+                stock.turn(found, pose.tip, rows)
+            res.moves += b - a
+            res.samples += len(q)
+            continue
         if checks:
             CheckedPath(stock, found, table, a, b, k, pose, res, clearance, partial(_between, q, model.fk),
-                        sweeps.others(i), rows).run()
+                        sweeps.others(index[i]), rows).run()
         else:
-            stock.cut(found, pose.tip, pose.axis, _between(q, model.fk), sweeps.others(i), rows)
+            stock.cut(found, pose.tip, pose.axis, _between(q, model.fk), sweeps.others(index[i]), rows)
         res.moves += b - a
         res.samples += len(q)
         if rotary.any() and len(q) > 1:

@@ -32,7 +32,8 @@ from vmach.stock.stats import CutStats
 from vmach.stock.view import View
 from vmach.tol import tol
 from vmach.tooling.model import Tool
-from vmach.tooling.solid import ToolSolid
+from vmach.tooling.solid import ToolSolid, segments_for
+from vmach.tooling.turning import TurningTool
 
 EXPORT_FORMATS = (".stl", ".3mf", ".ply")
 
@@ -96,6 +97,9 @@ class Stock:
                                  cusp=cusp, fan_overcut=fan_overcut)
         self.maker = Maker(self.view, self.stats, trim=trim, cusp=cusp, fan_overcut=fan_overcut)
         self.planner = Planner(self.settings, self.view, self.maker, self.stats)
+        # revolved (turning) cutters share the blank's polygon count, and so its vertices' angles
+        lo, hi = self.initial_bounds
+        self.maker.turn_segments = segments_for(float(max(-lo[0], hi[0], -lo[1], hi[1])), tol.blank_chord)
         self._rows: list[tuple[int, int]] = []
 
     @classmethod
@@ -128,6 +132,29 @@ class Stock:
             self.queue(cutters)
             n += len(cutters)
         return n
+
+    def turn(self, tool: TurningTool, tips: np.ndarray, rows: np.ndarray | None = None) -> int:
+        """Queue what a turning tool removes along one path while the workpiece turns: its
+        cross-section swept through ``tips`` (n, 3) work frame mm (the theoretical tip P) in
+        the X–Z half-plane and revolved about the spindle axis (work Z); returns the number of
+        cutters made. ``rows`` as for :meth:`cut`."""
+        cutters = self.turned(tool.section(self.turn_chord), tips, rows)
+        self.queue(cutters)
+        return len(cutters)
+
+    def turned(self, section: np.ndarray, tips: np.ndarray, rows: np.ndarray | None = None) -> list[Cutter]:
+        """The revolved cutters of a cross-section ``section`` (k, 2) ``(x, z)`` mm swept
+        through ``tips`` (n, 3), not queued (what a turning tool's insert — or its holder —
+        sweeps: :mod:`vmach.stock.strategies.revolved`)."""
+        t0 = time.perf_counter()
+        cutters = self.maker.make(None, self.planner.turn(section, tips, rows))
+        self.stats.sweep_seconds += time.perf_counter() - t0
+        return cutters
+
+    @property
+    def turn_chord(self) -> float:
+        """mm: the chord of a turning insert's nose arcs (the finer of the tool and blank chords)."""
+        return min(self.chord, tol.blank_chord)
 
     def _made(self, tool, tips, axes, between=None, others=None, rows=None):
         """Yield the cutters of each stretch of a path, as made."""

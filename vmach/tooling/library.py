@@ -6,6 +6,7 @@ Format (every length in mm, angles in degrees)::
     name = "GLOD D40"          # as the program calls it: T="GLOD D40"
     number = 1                 # T1 (optional)
     type = "face"              # flat | face | ball | bull | chamfer | drill
+                               # (turning | boring | grooving | threading: vmach.tooling.turning_toml)
     diameter = 40.0
     cutting_length = 5.5
     teeth = 4                  # flutes or inserts (optional)
@@ -36,6 +37,8 @@ from vmach.machine.control import parse_toml, read_text
 from vmach.machine.tomlpos import KeyLines
 from vmach.tol import tol
 from vmach.tooling.model import KINDS, Offset, Tool
+from vmach.tooling.turning import TURNING_KINDS, TurningTool
+from vmach.tooling.turning_toml import turning_tool
 
 _KEYS = {
     "name", "number", "type", "diameter", "cutting_length", "teeth", "corner_radius",
@@ -48,11 +51,11 @@ _REQUIRED = ("name", "type", "diameter", "cutting_length")
 class ToolLibrary:
     """Tools by name and number.
 
-    tools : tuple of Tool, in file order.
+    tools : tuple of Tool (or TurningTool), in file order.
     path : str — the file it came from.
     """
 
-    tools: tuple[Tool, ...] = ()
+    tools: tuple[Tool | TurningTool, ...] = ()
     path: str = "<tools>"
     _by_name: Mapping[str, Tool] = field(default_factory=dict, repr=False)
     _by_number: Mapping[int, Tool] = field(default_factory=dict, repr=False)
@@ -196,6 +199,8 @@ def _one(entry: Any, i: int, lines: KeyLines, bad) -> Tool | None:
     if not isinstance(entry, Mapping):
         bad(where, "each tool must be a table")
         return None
+    if entry.get("type") in TURNING_KINDS:
+        return turning_tool(entry, where, lines, bad, _num, _offsets)
     for k in entry:
         if k not in _KEYS:
             bad(where + (k,), f"unknown key {k!r}")
@@ -208,7 +213,7 @@ def _one(entry: Any, i: int, lines: KeyLines, bad) -> Tool | None:
         name = None
     kind = entry.get("type")
     if "type" in entry and kind not in KINDS:
-        bad(where + ("type",), f"type must be one of {', '.join(KINDS)}; got {kind!r}")
+        bad(where + ("type",), f"type must be one of {', '.join(KINDS + TURNING_KINDS)}; got {kind!r}")
         kind = None
     number = entry.get("number")
     if number is not None and (isinstance(number, bool) or not isinstance(number, int) or number < 0):

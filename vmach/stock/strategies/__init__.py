@@ -16,6 +16,9 @@ material only, within :func:`vmach.stock.sweep.scallop_bound`).
    fin only where the neighbours' fins hold the rest (the same material, to a sliver).
 4. :mod:`.cusps` — poses added inside rotary steps where a curved side (or a flat face's
    rim's feet) would leave cusps over the stock's ``cusp`` (leaves material only, within it).
+5. :mod:`.revolved` — a turning tool's whole path while the workpiece turns (not a milling
+   path: no other strategy sees it): its X–Z cross-section swept step by step, the pass
+   united and revolved about the spindle axis (exact to the section's and the blank's chords).
 
 A strategy reads the stock only through :class:`vmach.stock.view.View` (a snapshot) and other
 paths only through the optional coverage index (:class:`vmach.stock.sweeps.Others`).
