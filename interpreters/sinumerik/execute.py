@@ -730,8 +730,11 @@ class Machine:
                 new[n] = m[i]
         return new
 
-    def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool, about_pole: bool = False) -> tuple:
-        """The block's ArcFeed and its centre (a, b) in program coordinates of the plane."""
+    def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool, about_pole: bool = False,
+            in_program: bool = False) -> tuple:
+        """The block's ArcFeed and its centre (a, b) in program coordinates of the plane.
+        ``in_program``: the ArcFeed itself in program coordinates (end, centre, direction as
+        programmed; any frame, for the orientation transformation to map: orientation.py)."""
         g = self.geometry
         plane = PLANES[self.plane]
         a_name, b_name, _ = plane
@@ -745,7 +748,7 @@ class Machine:
         letters = {"X": "I", "Y": "J", "Z": "K"}
         la, lb = letters[a_name], letters[b_name]
         cw = self.motion == "G2"
-        if not suppress and frames.rotated and not frames.similar(ia, ib):
+        if not suppress and frames.rotated and not frames.similar(ia, ib) and not in_program:
             raise ProgramError("unsupported", "a circle under a frame that scales the plane's axes "
                                "differently (an ellipse) is not simulated", src)
         if self.motion == "CIP":
@@ -794,6 +797,11 @@ class Machine:
         turns = int(v.interp.get("TURN", (0, None))[0])
         if self.feed <= 0:
             raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
+        if in_program:
+            prog = dict(new)
+            prog.update(zip(g, pe, strict=True))
+            return canon.ArcFeed(src, axes=prog, plane=plane, center=(ca, cb), clockwise=cw, turns=turns,
+                                 feed=self.feed), (ca, cb)
         cmd = canon.ArcFeed(src, axes=new, plane=plane, center=(cm[ia], cm[ib]),
                             clockwise=cw if suppress else self.machine_cw(cw), turns=turns, feed=self.feed)
         return cmd, (ca, cb)

@@ -202,6 +202,12 @@ def vector(machine, words: dict, src: SourceRef) -> tuple[float, float, float] |
     return v  # type: ignore[return-value]
 
 
+def frame_of(machine) -> tuple[float, ...]:
+    """The active frame as OrientedMove.frame: origin (3), then the row-major linear part."""
+    frames = machine.frames
+    return (*(frames.off.get(n, 0.0) for n in machine.geometry), *frames.rotation_flat())
+
+
 def move(machine, v, src: SourceRef, suppress: bool) -> bool:
     """A motion block under TRAORI: one OrientedMove (the block's values, see the module
     docstring), True. Right after TRAFOOF: incremental words of unknown axes are refused, and
@@ -238,17 +244,20 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
         scale = 25.4 if machine.inch else 1.0
         prog = {w.name: float(val) * scale for w, val in v.axes if w.name in g}
         axes.update({n: prog.get(n, math.nan) for n in g})
-        kw["frame"] = (*(frames.off.get(n, 0.0) for n in g), *frames.rotation_flat())
+        kw["frame"] = frame_of(machine)
     if motion in ("G0", "G1"):
         kind = "traverse" if motion == "G0" else "feed"
     else:
-        arc, _ = machine.arc(v, src, new, suppress)
+        if "frame" in kw:
+            raise ProgramError("unsupported", "a circle as the first move after TRAORI, CYCLE800 or "
+                               "TRAFOOF under a rotated frame (its start is only known to the machine)", src)
+        tilted = frames.rotated and not suppress      # the circle in the frame's plane
+        arc, _ = machine.arc(v, src, new, suppress, in_program=tilted)
         axes = {k: (axes[k] if k in rot else arc.axes[k]) for k in axes}
         kind = "arc"
         kw = dict(plane=arc.plane, center=arc.center, clockwise=arc.clockwise, turns=arc.turns)
-    if kind == "arc" and "frame" in kw:
-        raise ProgramError("unsupported", "a circle as the first move after TRAORI, CYCLE800 or "
-                           "TRAFOOF under a rotated frame (its start is only known to the machine)", src)
+        if tilted:
+            kw["frame"] = frame_of(machine)
     machine.sink.append(canon.OrientedMove(src, motion=kind, axes=axes, vector=vec,
                                            interpolation=machine.ori.interpolation,
                                            feed=0.0 if kind == "traverse" else machine.feed, **kw))

@@ -146,3 +146,57 @@ def test_a_pocket_in_the_swivelled_plane_lands_where_the_plane_says(tmp_path, ma
     lo, hi = loop[:, :2].min(axis=0), loop[:, :2].max(axis=0)
     assert lo == pytest.approx([-5.0, -5.0], abs=0.02) and hi == pytest.approx([5.0, 5.0], abs=0.02)
     assert walls(-3.2) == []                            # the floor at z' = −3
+
+
+# POCKET3 in the same swivelled plane: 12 x 10, corner radius 3.5, floor 3 mm below the plane's
+# reference plane _RFP 0, vertical insertion, 1.5 mm per cut; then a G2 half circle in the plane
+POCKET3_SWIVELLED = """G17 G90 G0 X0 Y0 Z60 {rot0} C0
+T="EM6" D1
+S6000 M3
+CYCLE800(1,"TC1",0,57,0,4,0,20,0,0,0,0,0,-1,100,1)
+POCKET3(10, 0, 2, -3, 12, 10, 3.5, 0, 0, 0, 1.5, 0, 0, 300, 150, 0, 1, 3)
+G0 X5 Y-11 Z8
+G1 Z-1 F300
+G2 X-5 Y-11 I-5 J0
+G1 X-4
+G0 Z10
+CYCLE800()
+M5
+M30
+"""
+
+
+@pytest.mark.parametrize("machine, rot0", [("s5d", "B0"), ("mill5ac", "A0")])
+def test_pocket3_and_a_circle_in_the_swivelled_plane(tmp_path, machine, rot0):
+    """The milling cycle runs in the swivelled frame (its moves are the tip in the plane) and a
+    G2 lies in the plane: both land where the plane says on the exported part."""
+    prog = tmp_path / "SWIVEL3.MPF"
+    prog.write_text(POCKET3_SWIVELLED.format(rot0=rot0))
+    part = tmp_path / "part.stl"
+    out = tmp_path / "o"
+    assert main(["verify", str(prog), "--machine", machine, "--tools", str(TOOLS),
+                 "--stock", "box:x=40,y=40,z=30", "--export", str(part), "--out", str(out),
+                 "--no-images", "--quiet"]) == 0
+    mesh = trimesh.load(part)
+    rx = Rotation.from_euler("x", 20, degrees=True).as_matrix()
+    origin = np.array([0.0, 4.0, 0.0])
+
+    def loops(depth):
+        sec = mesh.section(plane_origin=origin + rx @ (0, 0, depth), plane_normal=rx @ (0, 0, 1))
+        found = [(lp - origin) @ rx for lp in (sec.discrete if sec is not None else [])]
+        return [lp for lp in found if np.abs(lp[:, :2]).max() < 19.5]
+
+    pocket = [lp for lp in loops(-2.0) if lp[:, 0].max() < 7]
+    (loop,) = pocket
+    lo, hi = loop[:, :2].min(axis=0), loop[:, :2].max(axis=0)
+    assert lo == pytest.approx([-6, -5], abs=0.02) and hi == pytest.approx([6, 5], abs=0.02)
+    corner = loop[(loop[:, 0] > 4) & (loop[:, 1] > 3)]    # the 3.5 corner radius about (2.5, 1.5)
+    assert np.abs(np.hypot(corner[:, 0] - 2.5, corner[:, 1] - 1.5) - 3.5).max() < 0.02
+    assert [lp for lp in loops(-3.2) if lp[:, 0].max() < 7] == []        # the floor at z' = −3
+    # the half circle of radius 5 about (0, −11), tool Ø6: a groove from r 2 to r 8 below y' −11
+    (groove,) = [lp for lp in loops(-0.5) if lp[:, 1].max() < -6]
+    r = np.hypot(groove[:, 0], groove[:, 1] + 11)
+    assert r.max() == pytest.approx(8, abs=0.02) and groove[:, 1].min() == pytest.approx(-19, abs=0.02)
+    inner = (np.abs(groove[:, 0]) < 1) & (groove[:, 1] < -12) & (groove[:, 1] > -14)   # wall r 2
+    assert inner.any() and np.abs(r[inner] - 2).max() < 0.02
+    assert [lp for lp in loops(-1.2) if lp[:, 1].max() < -6] == []     # the groove's floor

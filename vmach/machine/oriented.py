@@ -112,9 +112,22 @@ def _slerp(t0: np.ndarray, t1: np.ndarray, f: np.ndarray) -> np.ndarray:
 
 
 def _path(c: canon.OrientedMove, start: np.ndarray, end: np.ndarray, geo, chord: float):
-    """Tip as a function of the fraction: (callable f (n,) → (n, 3), chords the path needs)."""
+    """Tip as a function of the fraction: (callable f (n,) → (n, 3), chords the path needs).
+    An arc with a ``frame`` lies in the frame's plane: computed in program coordinates, then
+    mapped to the workpiece (a swivelled plane's circle)."""
     if c.motion != "arc":
         return (lambda f: start + f[:, None] * (end - start)), 1
+    if c.frame is None:
+        return _arc(c, start, end, geo, chord)
+    origin, lin = np.array(c.frame[:3]), np.array(c.frame[3:]).reshape(3, 3)
+    scale = abs(np.linalg.det(lin)) ** (1 / 3) or 1.0
+    at, chords = _arc(c, np.linalg.solve(lin, start - origin), np.linalg.solve(lin, end - origin), geo,
+                      chord / scale)
+    return (lambda f: origin + at(f) @ lin.T), chords
+
+
+def _arc(c: canon.OrientedMove, start: np.ndarray, end: np.ndarray, geo, chord: float):
+    """The arc of ``c`` (plane, centre in the coordinates of start and end) as ``_path``."""
     col = {g: i for i, g in enumerate(geo)}
     arc = canon.ArcFeed(c.source, plane=c.plane, center=c.center, clockwise=c.clockwise, turns=c.turns)
     pts = arc_points(start, end, arc, col, chord)
