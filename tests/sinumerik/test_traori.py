@@ -233,3 +233,32 @@ def test_a_vector_out_of_reach_is_unreachable_at_its_line(tmp_path):
     assert not [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 3]
     q, pose = rows(m, cmds, 4)
     assert np.abs(pose.axis[-1] - unit((0.2, 0, 1))).max() < 1e-9
+
+
+def test_hybrid_drives_follow_under_traori(tmp_path, capsys):
+    """On hybrid5 (p1..p3 carry the platform) ``vmach run --format json`` gives every TRAORI
+    block the drive values of its solved end pose, as for an axis program: the drives' inverse
+    of the virtual axes that put the tip and vector where the block says."""
+    import json
+
+    from vmach.cli import main
+
+    m = load_model("hybrid5")
+    body = ("TRAORI\nG1 X5 Y-3 Z12 A3=0.3 B3=0.2 C3=0.9 F500\nG1 X-8 Y4 Z6 A3=-0.2 B3=0.1 C3=1\n"
+            "TRAFOOF\nG0 Z60\nM30\n")
+    prog = tmp_path / "T.MPF"
+    prog.write_text(body)
+    assert main(["run", str(prog), "--machine", "hybrid5", "--format", "json"]) == 0
+    lines = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    cmds, _ = resolve(run(tmp_path, body, m.control).commands, m)
+    for line in (2, 3):
+        (row,) = [r for r in lines if r["kind"] == "oriented_move" and r["line"] == line]
+        q, pose = rows(m, cmds, line)
+        assert set(row["drives"]) == {"p1", "p2", "p3"}
+        drives, ok = m.drive_values(q[-1:])
+        assert ok[0]
+        for d in ("p1", "p2", "p3"):
+            assert row["drives"][d] == pytest.approx(float(drives[d][0]), abs=1e-9)
+        assert np.abs(pose.tip[-1] - [(5, -3, 12), (-8, 4, 6)][line - 2]).max() < 1e-9
+    after = [r for r in lines if r["kind"] != "oriented_move" and r["line"] == 5][-1]
+    assert after["drives"]["p1"] is not None        # the position TRAFOOF left, known again
