@@ -8,14 +8,16 @@ length is part of the transformation) and the tool's orientation is programmed
   irrelevant; components not programmed in the block are zero);
 - as angles ``A2= B2= C2=``: ORIEULER (default) turns a vector along Z first by A2 about Z,
   then by B2 about the new X (C2, the third Euler angle, does not change the vector); ORIRPY
-  first by C2 about Z, then by B2 about the new Y, then by A2 about the new X;
+  first by C2 about Z, then by B2 about the new Y, then by A2 about the new X; ORIRPY2 (the
+  sequence Z, Y, X) by C2 about Z, B2 about Y, A2 about X, fixed axes; ORIVIRT1/2 by A2, B2, C2
+  about the fixed axes the machine data $MC_ORIAX_TURN_TAB_1/2 names (default X, Y, Z);
 - or by the rotary axes themselves (``B=30 C=90``).
 
 With ORIWKS (default) a vector or angles are in the workpiece frame and turn with a rotating
 frame; with ORIMKS they are in the basic coordinate system. ORIVECT/ORIPLANE (default: the
 control's MD20150 start-up value here) turn the vector on the great circle between the block's
 start and end orientation; ORIAXES moves the rotary axes linearly. A block without an
-orientation keeps it. ORICONxx, ORICURVE, ORIVIRT1/2 and ORIRPY2 are ``unsupported``.
+orientation keeps it. ORICONxx, ORICURVE and ORIPATH are ``unsupported``.
 
 The interpreter cannot turn these into axis values (that needs the machine's inverse
 kinematics, which ``interpreters/`` never see): it emits :class:`vmach.canon.OrientedMove` and
@@ -39,7 +41,10 @@ from vmach.source import SourceRef
 #: the orientation words (parser kind "orient")
 WORDS = ("A2", "B2", "C2", "A3", "B3", "C3")
 #: G group 50 (angle definition), 51 (interpolation), 25 (reference)
-DEFINITIONS = ("ORIEULER", "ORIRPY")
+DEFINITIONS = ("ORIEULER", "ORIRPY", "ORIRPY2", "ORIVIRT1", "ORIVIRT2")
+#: the axes (1 X, 2 Y, 3 Z) the virtual orientation axes A2, B2, C2 turn about, in order, when
+#: the model's machine data has no $MC_ORIAX_TURN_TAB_1/2 (MD21120/MD21130)
+TURN_TAB = (1, 2, 3)
 INTERPOLATION = {"ORIVECT": "vector", "ORIPLANE": "vector", "ORIAXES": "axes"}
 
 
@@ -175,6 +180,41 @@ def learned(machine, words, new: dict, suppress: bool) -> None:
     machine.unknown = {n for n in machine.unknown if new.get(n) != new.get(n)}
 
 
+def _turn(axis: int, deg: float, v):
+    """v (3,) turned about the fixed axis 1 X, 2 Y or 3 Z by deg degrees."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    i, j = ((1, 2), (2, 0), (0, 1))[axis - 1]
+    out = list(v)
+    out[i], out[j] = c * v[i] - s * v[j], s * v[i] + c * v[j]
+    return tuple(out)
+
+
+def angles(machine, a: float, b: float, c: float) -> tuple[float, float, float]:
+    """The tool vector of angles A2 B2 C2 (degrees) by the active definition (G group 50):
+    ORIEULER Rz(A2)·Rx(B2)·e_z; ORIRPY (sequence X, Y, Z) Rz(C2)·Ry(B2)·Rx(A2)·e_z; ORIRPY2
+    (sequence Z, Y, X) Rx(A2)·Ry(B2)·Rz(C2)·e_z; ORIVIRT1/2 A2, B2, C2 about the fixed axes
+    $MC_ORIAX_TURN_TAB_1/2 names in order (default X, Y, Z)."""
+    d = machine.ori.definition
+    v = (0.0, 0.0, 1.0)
+    if d == "ORIEULER":
+        seq = ((3, c), (1, b), (3, a))
+    elif d == "ORIRPY":
+        seq = ((1, a), (2, b), (3, c))
+    elif d == "ORIRPY2":
+        seq = ((3, c), (2, b), (1, a))
+    else:
+        tab = machine.control.machine_data.get(f"$MC_ORIAX_TURN_TAB_{d[-1]}", TURN_TAB)
+        if isinstance(tab, dict):
+            tab = [tab[k] for k in sorted(tab)]
+        tab = tuple(int(x) for x in tab)
+        if len(tab) != 3 or not set(tab) <= {1, 2, 3}:
+            tab = TURN_TAB
+        seq = tuple(zip(tab, (a, b, c), strict=True))
+    for axis, deg in seq:
+        v = _turn(axis, deg, v)
+    return v  # type: ignore[return-value]
+
+
 def vector(machine, words: dict, src: SourceRef) -> tuple[float, float, float] | None:
     """The block's tool vector in the basic coordinate system from its orientation words
     ``{name: (value, mode)}``, or None."""
@@ -188,12 +228,7 @@ def vector(machine, words: dict, src: SourceRef) -> tuple[float, float, float] |
     if three:
         v = (val.get("A3", 0.0), val.get("B3", 0.0), val.get("C3", 0.0))
     else:
-        a, b, c = (math.radians(val.get(k, 0.0)) for k in ("A2", "B2", "C2"))
-        if machine.ori.definition == "ORIEULER":      # Rz(A2) · Rx(B2) · e_z
-            v = (math.sin(a) * math.sin(b), -math.cos(a) * math.sin(b), math.cos(b))
-        else:                                         # Rz(C2) · Ry(B2) · Rx(A2) · e_z
-            x, y, z = math.sin(b) * math.cos(a), -math.sin(a), math.cos(b) * math.cos(a)
-            v = (math.cos(c) * x - math.sin(c) * y, math.sin(c) * x + math.cos(c) * y, z)
+        v = angles(machine, *(val.get(k, 0.0) for k in ("A2", "B2", "C2")))
     if not math.hypot(*v) > 1e-12:
         raise ProgramError("invalid_value", "the programmed tool vector is zero", src)
     if machine.ori.workpiece and machine.frames.rotated:

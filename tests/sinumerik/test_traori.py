@@ -7,6 +7,7 @@ circle and ORIAXES linear in the axes within tol.angle_step; the pole; flips; TR
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -153,7 +154,7 @@ def test_errors_at_their_lines(tmp_path):
     assert (f.kind, f.line) == ("syntax", 2)
     f = error_of(run(tmp_path, "TRAORI\nM30\n", load_model("turnmill").control))
     assert (f.kind, f.line) == ("unsupported", 1)
-    f = error_of(run(tmp_path, "ORIVIRT1\nM30\n", s5d))
+    f = error_of(run(tmp_path, "ORICURVE\nM30\n", s5d))
     assert (f.kind, f.line) == ("unsupported", 1)
 
 
@@ -262,3 +263,30 @@ def test_hybrid_drives_follow_under_traori(tmp_path, capsys):
         assert np.abs(pose.tip[-1] - [(5, -3, 12), (-8, 4, 6)][line - 2]).max() < 1e-9
     after = [r for r in lines if r["kind"] != "oriented_move" and r["line"] == 5][-1]
     assert after["drives"]["p1"] is not None        # the position TRAFOOF left, known again
+
+
+@pytest.mark.parametrize("model", ["s5d", "mill5ac"])
+def test_orirpy2_and_the_virtual_orientation_axes(tmp_path, model):
+    """G group 50 of the manual: ORIRPY2 is the RPY angles in the rotation sequence Z, Y, X
+    (C2 about Z first, then B2 about Y, then A2 about X, fixed axes: Rx(A2)·Ry(B2)·Rz(C2)·e_z);
+    ORIVIRT1/ORIVIRT2 turn about the axes MD21120/MD21130 $MC_ORIAX_TURN_TAB_1/2 name in
+    order (1 X, 2 Y, 3 Z; the model's data, here TAB_2 = Z, X, Z: the Euler angles of
+    virtual axes), default X, Y, Z (= ORIRPY). FK of the solution = the vector to 1e-9."""
+    m = load_model(model)
+    md = dict(m.control.machine_data)
+    md["$MC_ORIAX_TURN_TAB_2"] = [3, 1, 3]
+    control = replace(m.control, machine_data=md)
+    body = ("TRAORI\nORIRPY2\nG1 X0 Y0 Z10 A2=20 B2=-35 C2=50 F500\nORIVIRT1\nG1 A2=-25 B2=15 C2=40\n"
+            "ORIVIRT2\nG1 A2=30 B2=40 C2=10\nTRAFOOF\nM30\n")
+    r = run(tmp_path, body, control)
+    assert r.completed, [f.render() for f in r.findings]
+    cmds, found = resolve(r.commands, m)
+    assert found == []
+    ez = np.array([0.0, 0.0, 1.0])
+    rpy2 = Rotation.from_euler("XYZ", [20, -35, 50], degrees=True).apply(ez)    # intrinsic X Y Z
+    virt1 = Rotation.from_euler("xyz", [-25, 15, 40], degrees=True).apply(ez)   # fixed X, Y, Z
+    virt2 = Rotation.from_euler("zxz", [30, 40, 10], degrees=True).apply(ez)    # fixed Z, X, Z
+    for line, want in ((3, rpy2), (5, virt1), (7, virt2)):
+        _, pose = rows(m, cmds, line)
+        assert np.abs(pose.axis[-1] - want).max() < 1e-9, line
+        assert np.abs(pose.tip[-1] - (0, 0, 10)).max() < 1e-9
