@@ -19,9 +19,10 @@ _DMODE)``:
   stay); 4 (the most in the tool direction) and 5 (``_FR_I`` in the tool direction) on a
   table-table machine, where the tool direction is machine +Z (elsewhere ``unsupported``).
 - the rotary positioning: the tool is turned normal to the new plane (Z for G17), the linear
-  axes holding still (no tool follow-up); ``_DIR`` −1/+1 takes the solution with the lower /
-  higher value of the swivel data's direction reference axis (rotary axis 1), 0 does not
-  position the rotary axes (the frame only).
+  axes holding still, or with ``_ST``'s tens digit 1 (tool follow-up, the control's tracking
+  with TRAORI) moving so that the tip stays on the part where it was; ``_DIR`` −1/+1
+  takes the solution with the lower / higher value of the swivel data's direction reference
+  axis (rotary axis 1), 0 does not position the rotary axes (the frame only).
 
 After CYCLE800 the interpreter continues as under TRAORI (orientation.py): every move is an
 :class:`vmach.canon.OrientedMove` of the tool tip in the workpiece frame with the tool
@@ -110,7 +111,8 @@ def cycle800(machine, args, src: SourceRef, orientation) -> list:
             out.append(orientation.deactivate(machine, src))
             machine.emit_frame(src)
         return out
-    fr, st, mode = int(_arg(args, 0, 1)), int(_arg(args, 2)) % 10, int(_arg(args, 3))
+    fr, mode = int(_arg(args, 0, 1)), int(_arg(args, 3))
+    st, follow = int(_arg(args, 2)) % 10, int(_arg(args, 2)) // 10 % 10 == 1
     ref = tuple(_arg(args, i) for i in (4, 5, 6))
     a, b, c = (_arg(args, i) for i in (7, 8, 9))
     zero = tuple(_arg(args, i) for i in (10, 11, 12))
@@ -149,7 +151,7 @@ def cycle800(machine, args, src: SourceRef, orientation) -> list:
     machine.emit_frame(src)
     orientation.forget(machine)
     if mode & 0xC0 == 0xC0 or direction:
-        out.append(_position(machine, rot, mode, a, b, direction, src))
+        out.append(_position(machine, rot, mode, a, b, direction, src, follow))
     return out
 
 
@@ -176,8 +178,10 @@ def _retract(machine, fr: int, amount, src: SourceRef) -> canon.Traverse:
     return canon.Traverse(src, axes=pos)
 
 
-def _position(machine, rot, mode, a, b, direction, src: SourceRef) -> canon.OrientedMove:
-    """Turn the tool normal to the new plane, the linear axes holding still."""
+def _position(machine, rot, mode, a, b, direction, src: SourceRef,
+              follow: bool = False) -> canon.OrientedMove:
+    """Turn the tool normal to the new plane, the linear axes holding still — or, with tool
+    follow-up (``follow``), moving so that the tip stays where it is on the part."""
     axes = dict(machine.pos)
     vec = None
     if mode & 0xC0 == 0xC0:                         # direct: the rotary positions themselves
@@ -193,4 +197,4 @@ def _position(machine, rot, mode, a, b, direction, src: SourceRef) -> canon.Orie
     ref = _carr(machine, 35)
     prefer = (ref, 1 if direction > 0 else -1) if direction and ref in rot else None
     return canon.OrientedMove(src, motion="traverse", axes=axes, vector=vec, interpolation="axes",
-                              prefer=prefer, hold_axes=True)
+                              prefer=prefer, hold_axes=not follow)

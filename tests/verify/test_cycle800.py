@@ -200,3 +200,27 @@ def test_pocket3_and_a_circle_in_the_swivelled_plane(tmp_path, machine, rot0):
     inner = (np.abs(groove[:, 0]) < 1) & (groove[:, 1] < -12) & (groove[:, 1] > -14)   # wall r 2
     assert inner.any() and np.abs(r[inner] - 2).max() < 0.02
     assert [lp for lp in loops(-1.2) if lp[:, 1].max() < -6] == []     # the groove's floor
+
+
+@pytest.mark.parametrize("machine, rot0", [("s5d", "B0"), ("mill5ac", "A0")])
+def test_tool_follow_up_keeps_the_tip(tmp_path, machine, rot0):
+    """_ST tens digit 1 (tool follow-up, the control's tracking with TRAORI): the rotary axes
+    turn with the tool tip kept where it is on the part; 0 holds the linear axes (the tip moves
+    with the part)."""
+    m = load_model(machine)
+    tips = {}
+    for st in (0, 10):
+        body = (f"G0 X10 Y-5 Z40 {rot0} C0\n"
+                f'CYCLE800(0,"TC1",{st},57,0,0,0,25,0,0,0,0,0,-1,100,1)\nG0 Z30\nM30\n')
+        _, _, cmds, found = swivelled(machine, body, tmp_path)
+        assert found == []
+        rows = [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 2]
+        q = np.array([[rows[-1].axes[a] for a in m.axes]])
+        pose = m.fk(q)
+        rx = Rotation.from_euler("x", 25, degrees=True).as_matrix()
+        assert np.abs(pose.axis[0] - rx @ (0, 0, 1)).max() < 1e-9
+        tips[st] = pose.tip[0]
+        held = [r.axes[g] for g in "XYZ" for r in rows[-1:]]
+        assert (held == pytest.approx([10, -5, 40])) == (st == 0)
+    assert np.abs(tips[10] - (10, -5, 40)).max() < 1e-9
+    assert np.abs(tips[0] - (10, -5, 40)).max() > 1
