@@ -265,6 +265,10 @@ class OrientedMove(Command):
         (CYCLE800's direction); None: the transformation's own rule.
     hold_axes : the linear axes keep their values while the rotary axes turn (CYCLE800's
         swivelling without tool follow-up: the tip moves with the part); ``motion`` traverse.
+    cone : None, or (3,) for ``interpolation`` ``"cone_cw"``/``"cone_ccw"`` (ORICONCW/CCW:
+        the vector turns about this cone axis clockwise/counter-clockwise as seen against it,
+        its angle to the axis going linearly from the start's to the end's) or ``"cone_io"``
+        (ORICONIO: the intermediate orientation the cone passes through), workpiece frame.
 
     The consumer samples the block within ``tol.angle_step`` of orientation and ``tol.chord``
     of path, solves each sample with the model's inverse kinematics and emits
@@ -284,6 +288,7 @@ class OrientedMove(Command):
     frame: tuple[float, ...] | None = None
     prefer: tuple[str, int] | None = None
     hold_axes: bool = False
+    cone: tuple[float, float, float] | None = None
     kind: ClassVar[str] = "oriented_move"
 
     def fields(self) -> dict[str, Any]:
@@ -293,6 +298,8 @@ class OrientedMove(Command):
         if self.motion == "arc":
             out.update(plane=list(self.plane), center=list(self.center), clockwise=self.clockwise,
                        turns=self.turns)
+        if self.cone is not None:
+            out["cone"] = list(self.cone)
         return out
 
 

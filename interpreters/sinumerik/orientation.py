@@ -40,12 +40,15 @@ from vmach.source import SourceRef
 
 #: the orientation words (parser kind "orient")
 WORDS = ("A2", "B2", "C2", "A3", "B3", "C3")
+#: the cone's axis (ORICONCW/CCW) and intermediate orientation (ORICONIO)
+CONE_WORDS = ("A6", "B6", "C6", "A7", "B7", "C7")
 #: G group 50 (angle definition), 51 (interpolation), 25 (reference)
 DEFINITIONS = ("ORIEULER", "ORIRPY", "ORIRPY2", "ORIVIRT1", "ORIVIRT2")
 #: the axes (1 X, 2 Y, 3 Z) the virtual orientation axes A2, B2, C2 turn about, in order, when
 #: the model's machine data has no $MC_ORIAX_TURN_TAB_1/2 (MD21120/MD21130)
 TURN_TAB = (1, 2, 3)
-INTERPOLATION = {"ORIVECT": "vector", "ORIPLANE": "vector", "ORIAXES": "axes"}
+INTERPOLATION = {"ORIVECT": "vector", "ORIPLANE": "vector", "ORIAXES": "axes",
+                 "ORICONCW": "cone_cw", "ORICONCCW": "cone_ccw", "ORICONIO": "cone_io"}
 
 
 @dataclass(frozen=True)
@@ -142,7 +145,7 @@ def code(machine, name: str, src: SourceRef) -> bool:
 def words(machine, v, src: SourceRef) -> bool:
     """Whether the block programs an orientation (``A3=`` …, left in ``v.interp``); an error
     without TRAORI."""
-    found = [k for k in WORDS if k in v.interp]
+    found = [k for k in (*WORDS, *CONE_WORDS) if k in v.interp]
     if found and machine.traori is None:
         raise ProgramError("no_transformation", f"{', '.join(found)}: orientation programming needs "
                            "TRAORI", src)
@@ -237,6 +240,32 @@ def vector(machine, words: dict, src: SourceRef) -> tuple[float, float, float] |
     return v  # type: ignore[return-value]
 
 
+def _cone(machine, words: dict, orientation: dict, src: SourceRef):
+    """The block's cone vector under ORICONCW/CCW (A6 B6 C6, the axis) or ORICONIO (A7 B7
+    C7, the intermediate orientation), turned like a tool vector; None otherwise."""
+    mode = machine.ori.interpolation
+    if not mode.startswith("cone"):
+        if words:
+            raise ProgramError("syntax", f"{', '.join(words)}: a cone's vector needs ORICONCW, "
+                               "ORICONCCW or ORICONIO", src)
+        return None
+    if not words and not orientation:                 # the orientation stays
+        return None
+    want = ("A7", "B7", "C7") if mode == "cone_io" else ("A6", "B6", "C6")
+    wrong = [k for k in words if k not in want]
+    if wrong or not words or not any(k.endswith("3") for k in orientation):
+        raise ProgramError("unsupported", f"{mode.replace('cone_', 'ORICON').upper()}: a block "
+                           f"with the end orientation (A3 B3 C3) and {' '.join(want)} is simulated; "
+                           "the opening angle NUT, polynomials and other forms are not", src)
+    v = tuple(float(words.get(k, (0.0, None))[0]) for k in want)
+    if not math.hypot(*v) > 1e-12:
+        raise ProgramError("invalid_value", "the cone's vector is zero", src)
+    if machine.ori.workpiece and machine.frames.rotated:
+        lin = machine.frames.lin
+        v = tuple(sum(lin[i][j] * v[j] for j in range(3)) for i in range(3))
+    return v
+
+
 def frame_of(machine) -> tuple[float, ...]:
     """The active frame as OrientedMove.frame: origin (3), then the row-major linear part."""
     frames = machine.frames
@@ -251,6 +280,8 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
     if machine.traori is None:
         return False
     words = {k: v.interp.pop(k) for k in WORDS if k in v.interp} if v.interp else {}
+    cone = _cone(machine, {k: v.interp.pop(k) for k in CONE_WORDS if k in v.interp} if v.interp else {},
+                 words, src)
     if machine.cutcom.engaged or machine.corners.holding or machine.corners.modal > 0:
         raise ProgramError("unsupported", "tool radius compensation, chamfers or roundings under TRAORI "
                            "are not simulated", src)
@@ -294,7 +325,7 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
         if tilted:
             kw["frame"] = frame_of(machine)
     machine.sink.append(canon.OrientedMove(src, motion=kind, axes=axes, vector=vec,
-                                           interpolation=machine.ori.interpolation,
+                                           interpolation=machine.ori.interpolation, cone=cone,
                                            feed=0.0 if kind == "traverse" else machine.feed, **kw))
     if vec is not None:
         for r in rot:

@@ -290,3 +290,34 @@ def test_orirpy2_and_the_virtual_orientation_axes(tmp_path, model):
         _, pose = rows(m, cmds, line)
         assert np.abs(pose.axis[-1] - want).max() < 1e-9, line
         assert np.abs(pose.tip[-1] - (0, 0, 10)).max() < 1e-9
+
+
+def cone_rows(tmp_path, model, mode, words):
+    m, cmds, found = solved(tmp_path, model, "TRAORI\nORIVECT\nG1 X0 Y0 Z10 A3=1 B3=0 C3=1 F500\n"
+                            f"{mode}\nG1 X10 {words} A3=0 B3=1 C3=1\nTRAFOOF\n")
+    assert found == []
+    q, pose = rows(m, cmds, 5)
+    return pose
+
+
+@pytest.mark.parametrize("model", ["s5d", "mill5ac", "h5d"])
+def test_cone_interpolation_oriconccw_oriconcw_oriconio(tmp_path, model):
+    """Interpolation on a cone's surface (G group 51): from 45° toward +X to 45° toward +Y on
+    the cone about Z (A6=0 B6=0 C6=1) — ORICONCCW the quarter turn, ORICONCW the other three
+    quarters; ORICONIO through the intermediate orientation A7 B7 C7 (toward −X: three
+    quarters again). Every row: 45° from the axis; the azimuth monotonic at most
+    tol.angle_step apart; FK of the end = the programmed vector and tip to 1e-9."""
+    ez = np.array([0.0, 0.0, 1.0])
+    for mode, words, sweep in (("ORICONCCW", "A6=0 B6=0 C6=1", 90.0),
+                               ("ORICONCW", "A6=0 B6=0 C6=1", -270.0),
+                               ("ORICONIO", "A7=-1 B7=0 C7=1", -270.0)):
+        pose = cone_rows(tmp_path, model, mode, words)
+        assert np.abs(pose.axis @ ez - math.cos(math.radians(45))).max() < 1e-9, mode
+        az = np.degrees(np.unwrap(np.arctan2(pose.axis[:, 1], pose.axis[:, 0])))
+        steps = np.diff(az)
+        assert (np.sign(steps) == np.sign(sweep)).all(), mode
+        assert az[-1] - az[0] + steps[0] == pytest.approx(sweep, abs=tol.angle_step)
+        turned = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", pose.axis[1:], pose.axis[:-1]), -1, 1)))
+        assert turned.max() <= tol.angle_step * (1 + 1e-9), mode
+        assert np.abs(pose.axis[-1] - unit((0, 1, 1))).max() < 1e-9
+        assert np.abs(pose.tip[-1] - (10, 0, 10)).max() < 1e-9
