@@ -268,7 +268,7 @@ class Machine:
                 self.path_mode = name
             elif grp == 11:
                 block_exact = True
-            elif grp in (25, 50, 51, 100):
+            elif grp in (25, 50, 51, 53, 100):
                 if name == "TRACYL":
                     raise ProgramError("syntax", "TRACYL needs the working diameter: TRACYL(d)", src.at(col))
                 if orientation.code(self, name, src.at(col)) and self.tracyl is not None:

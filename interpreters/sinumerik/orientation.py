@@ -33,7 +33,7 @@ import math
 import sys
 from dataclasses import dataclass
 
-from interpreters.sinumerik import swivel, tracyl, transmit
+from interpreters.sinumerik import swivel, toolcarrier, tracyl, transmit
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -128,18 +128,30 @@ def deactivate(machine, src: SourceRef) -> canon.Transformation:
 
 
 def code(machine, name: str, src: SourceRef) -> bool:
-    """A code of the orientation groups (25, 50, 51) or of the transformation group (100:
+    """A code of the orientation groups (25, 50, 51), of the frame rotations of the tool carrier
+    (53: toolcarrier.py) or of the transformation group (100:
     TRAORI or TRANSMIT alone, TRAFOOF); True for TRAFOOF (TRACYL's and TRANSMIT's end follows)."""
     if name in ("ORIWKS", "ORIMKS", *INTERPOLATION, *DEFINITIONS):
         set_mode(machine, name)
+        return False
+    if name in toolcarrier.CODES:                    # G group 53: TOROT, PAROT …
+        toolcarrier.code(machine, name, src)
         return False
     if name in ("TRAORI", "TRANSMIT"):
         machine.out.extend(start(machine, name, [], src))
         machine.placeholders = True
         return False
     if machine.traori is not None:
+        if toolcarrier.active(machine):
+            raise ProgramError("unsupported", "TRAFOOF while TCARR is active is not simulated "
+                               "(TCARR=0 ends the tool carrier)", src)
         machine.out.append(deactivate(machine, src))
     return True
+
+
+def carrier(machine, value, src: SourceRef) -> None:
+    """``TCARR=n`` (toolcarrier.py)."""
+    toolcarrier.select(machine, value, src, sys.modules[__name__])
 
 
 def words(machine, v, src: SourceRef) -> bool:
@@ -300,6 +312,10 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
     for r in rot:
         if not any(w.name == r for w, _ in v.axes):
             axes[r] = math.nan
+    carried = toolcarrier.active(machine) and not suppress
+    if carried and vec is not None:
+        raise ProgramError("unsupported", "an orientation vector or angles under TCARR without TRAORI "
+                           "(program the rotary axes)", src)
     motion = machine.motion
     if motion in ("G1", "G2", "G3", "CIP", "CT") and machine.feed <= 0:
         raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
@@ -317,13 +333,18 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
         if "frame" in kw:
             raise ProgramError("unsupported", "a circle as the first move after TRAORI, CYCLE800 or "
                                "TRAFOOF under a rotated frame (its start is only known to the machine)", src)
-        tilted = frames.rotated and not suppress      # the circle in the frame's plane
+        tilted = (frames.rotated or carried) and not suppress   # the circle in the frame's plane
         arc, _ = machine.arc(v, src, new, suppress, in_program=tilted)
         axes = {k: (axes[k] if k in rot else arc.axes[k]) for k in axes}
         kind = "arc"
         kw = dict(plane=arc.plane, center=arc.center, clockwise=arc.clockwise, turns=arc.turns)
         if tilted:
             kw["frame"] = frame_of(machine)
+    if carried:                      # the program point through the frames and the table
+        if kind != "arc":
+            axes.update(zip(g, frames.to_program(tuple(new[n] for n in g)), strict=True))
+        kw["frame"] = toolcarrier.frame(machine, new, src)
+        kw["hold_axes"] = not any(w.name in g for w, _ in v.axes)
     machine.sink.append(canon.OrientedMove(src, motion=kind, axes=axes, vector=vec,
                                            interpolation=machine.ori.interpolation, cone=cone,
                                            feed=0.0 if kind == "traverse" else machine.feed, **kw))
