@@ -298,9 +298,7 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
         raise ProgramError("unsupported", "tool radius compensation, chamfers or roundings under TRAORI "
                            "are not simulated", src)
     rot = machine.traori.rotaries
-    if getattr(machine, "swivel", None) is not None and machine.frames.slin is not machine.swivel_lin:
-        raise ProgramError("unsupported", "a settable frame (G54 …) selected while CYCLE800 is active "
-                           "is not simulated (CYCLE800() first)", src)
+    swivel.current(machine, src)                     # G54 … under CYCLE800: the swivel stays
     new = machine._targets(v, src, suppress) if v.axes else dict(machine.pos)
     learned(machine, v.axes, new, suppress)
     direct = any(w.name in rot for w, _ in v.axes)

@@ -107,9 +107,6 @@ def test_solid_and_projection_angles(tmp_path):
 
 
 def test_errors(tmp_path):
-    f = error_of(run(tmp_path, 'G0 X0 Y0 Z50 B0 C0\nCYCLE800(0,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\n'
-                     'G54\nG0 X0 Y0 Z5\nM30\n', load_model("s5d").control))
-    assert (f.kind, f.line) == ("unsupported", 4)
     f = error_of(run(tmp_path, 'CYCLE800(4,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\nM30\n',
                      load_model("hybrid5").control))          # a B/C head: tool direction tilts
     assert (f.kind, f.line) == ("unsupported", 1)
@@ -224,3 +221,38 @@ def test_tool_follow_up_keeps_the_tip(tmp_path, machine, rot0):
         assert (held == pytest.approx([10, -5, 40])) == (st == 0)
     assert np.abs(tips[10] - (10, -5, 40)).max() < 1e-9
     assert np.abs(tips[0] - (10, -5, 40)).max() > 1
+
+
+def test_a_settable_frame_selected_under_cycle800_keeps_the_swivel(tmp_path):
+    """G55 after CYCLE800: the swivel stays, about its reference point on the new zero (the
+    control keeps it in a system frame after the settable frame); CYCLE800() then goes back
+    to G55 alone."""
+    body = ('$P_UIFR[2]=CTRANS(X,10,Y,-4,Z,0)\nG54 G0 X0 Y0 Z60 B0 C0\n'
+            'CYCLE800(1,"TC1",0,57,0,2,0,20,0,0,0,0,0,-1,100,1)\nG0 X0 Y0 Z5\nG55\nG0 X0 Y0 Z5\n'
+            'G1 X3 F300\nCYCLE800()\nG0 Z40\nM30\n')
+    m, r, cmds, found = swivelled("s5d", body, tmp_path)
+    assert found == []
+    rx = Rotation.from_euler("x", 20, degrees=True).as_matrix()
+    g54, g55 = (0, 2, 0), (10, -2, 0)
+    for line, zero, p in ((4, g54, (0, 0, 5)), (6, g55, (0, 0, 5)), (7, g55, (3, 0, 5))):
+        q = [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == line][-1]
+        pose = m.fk(np.array([[q.axes[a] for a in m.axes]]))
+        assert np.abs(pose.tip[0] - (np.array(zero) + rx @ p)).max() < 1e-9, line
+        assert np.abs(pose.axis[0] - rx @ (0, 0, 1)).max() < 1e-9
+    frame = [c for c in r.commands if isinstance(c, SetFrame)][-1]     # CYCLE800(): G55 alone
+    assert np.allclose(np.reshape(frame.rotation, (3, 3)), np.eye(3)) and frame.origin["X"] == 10
+
+
+@pytest.mark.parametrize("order", [57, 54])
+def test_projection_angles_in_both_orders(tmp_path, order):
+    """_MODE 128 + order: the new Z's projections make _A with Z in the Y/Z plane and _B in the
+    Z/X plane; X·Y (57) keeps the new X in the old Z/X plane, Y·X (54) the new Y in the Y/Z
+    plane; _C turns about the new Z."""
+    body = f'G0 X0 Y0 Z50 B0 C0\nCYCLE800(0,"",0,{128 + order},0,0,0,25,-35,0,0,0,0,0,100,1)\nM30\n'
+    r = run(tmp_path, body, load_model("s5d").control)
+    rot = np.reshape([c for c in r.commands if isinstance(c, SetFrame)][-1].rotation, (3, 3))
+    x, y, z = rot[:, 0], rot[:, 1], rot[:, 2]
+    assert np.allclose(rot.T @ rot, np.eye(3), atol=1e-12) and np.linalg.det(rot) == pytest.approx(1)
+    assert np.degrees(np.arctan2(-z[1], z[2])) == pytest.approx(25)
+    assert np.degrees(np.arctan2(z[0], z[2])) == pytest.approx(-35)
+    assert abs(x[1] if order == 57 else y[0]) < 1e-12

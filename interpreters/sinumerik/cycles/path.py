@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from interpreters.sinumerik import swivel
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import PhasedRef, SourceRef
@@ -39,6 +40,8 @@ class Path:
         frames = machine.frames
         #: under TRAORI or CYCLE800 the moves are the tool tip in the (swivelled) plane
         self.oriented = machine.traori is not None
+        if self.oriented:
+            swivel.current(machine, src)              # a G54 … selected under CYCLE800
         if frames.rotated and not frames.similar(self.ia, self.ib) and not self.oriented:
             raise ProgramError("unsupported", "a cycle under a frame that scales the plane's axes "
                                "differently is not simulated", src)
