@@ -17,8 +17,9 @@ _DMODE)``:
   ``_ST`` units digit 0 replaces an active swivel, 1 adds to it.
 - the retraction before swivelling, ``_FR``: 0 none, 1 Z, 2 Z then X Y to the swivel data's
   retraction positions ``$TC_CARR38…40`` (default: the travel's positive end of Z, X and Y
-  stay); 4 (the most in the tool direction) and 5 (``_FR_I`` in the tool direction) on a
-  table-table machine, where the tool direction is machine +Z (elsewhere ``unsupported``).
+  stay); 4 (the most in the tool direction, up to the first travel limit) and 5 (``_FR_I`` in
+  the tool direction): the tool's direction from the swivel data at the rotary positions (on a
+  table-table machine machine +Z).
 - the rotary positioning: the tool is turned normal to the new plane (Z for G17), the linear
   axes holding still, or with ``_ST``'s tens digit 1 (tool follow-up, the control's tracking
   with TRAORI) moving so that the tip stays on the part where it was; ``_DIR`` −1/+1
@@ -64,6 +65,29 @@ def _rodrigues(u, deg: float):
 def _carr(machine, n: int):
     md = machine.control.machine_data.get(f"$TC_CARR{n}", {})
     return md.get(1) if isinstance(md, dict) else None
+
+
+def transpose(m):
+    return tuple(tuple(m[j][i] for j in range(3)) for i in range(3))
+
+
+def rotations(machine, pos: dict, src: SourceRef):
+    """(R_tool, R_table) of swivel record 1 at the rotary positions ``pos`` (degrees): the
+    tool's rotation and the table's, machine-parallel (identity for the one that does not turn)."""
+    names = (_carr(machine, 35), _carr(machine, 36))
+    values = [pos.get(n, float("nan")) for n in names]
+    if any(v != v for v in values):
+        raise ProgramError("unsupported", f"the position of {' and '.join(map(str, names))} is only "
+                           "known to the machine (program the rotary axes first)", src)
+    v1 = tuple(float(_carr(machine, k) or 0.0) for k in (7, 8, 9))
+    v2 = tuple(float(_carr(machine, k) or 0.0) for k in (10, 11, 12))
+    r1, r2 = _rodrigues(v1, values[0]), _rodrigues(v2, values[1])
+    kind = _carr(machine, 23)
+    if kind == "T":                     # both turn the tool: axis 1 carries axis 2
+        return matmul(r1, r2), IDENTITY
+    if kind == "P":                     # both turn the part; the vectors are the part's view
+        return IDENTITY, transpose(matmul(r2, r1))
+    return r1, transpose(r2)            # M: axis 1 the tool, axis 2 the table
 
 
 def rotation(machine, mode: int, a: float, b: float, c: float, src: SourceRef):
@@ -125,9 +149,6 @@ def cycle800(machine, args, src: SourceRef, orientation) -> list:
     direction = int(_arg(args, 13, -1))
     if any(isinstance(v, str) for v in (fr, mode, *ref, a, b, c, *zero, direction)):
         raise ProgramError("type_error", "CYCLE800: the parameters after _TC are numbers", src)
-    if fr in (4, 5) and _carr(machine, 23) != "P":
-        raise ProgramError("unsupported", f"CYCLE800 retraction _FR={fr} (in the tool direction) on a "
-                           "machine that tilts the tool is not simulated", src)
     rot = tuple(x.name for x in machine.control.axes if x.kind == "rotary")
     if len(rot) != 2:
         raise ProgramError("unsupported", "CYCLE800: the machine has not two rotary axes to swivel "
@@ -188,19 +209,38 @@ def reapply(machine, src: SourceRef) -> None:
 
 
 def _retract(machine, fr: int, amount, src: SourceRef) -> canon.Traverse:
-    """The retraction in machine coordinates before swivelling (on a table-table machine the
-    tool direction is machine +Z: _FR 4 is Z to its end, 5 Z up by _FR_I)."""
+    """The retraction in machine coordinates before swivelling: _FR 1 Z, 2 Z then X Y to the
+    retraction positions; 4 along the tool as far as the travel allows, 5 along the tool by
+    _FR_I — the tool's direction from the swivel data at the rotary positions (machine +Z on a
+    table-table machine)."""
     md = machine.control.machine_data
     plus = md.get("$MA_POS_LIMIT_PLUS", {})
     g = machine.geometry
     pos = dict(machine.pos)
-    z = _carr(machine, 40)
-    pos[g[2]] = float(z) if z and fr != 4 else float(plus.get(g[2], pos[g[2]]))
-    if fr == 5:
-        if pos[g[2]] != pos[g[2]] or isinstance(amount, str):
-            raise ProgramError("unsupported", "CYCLE800 _FR=5 from a position only the machine knows "
-                               "(right after a swivel) is not simulated", src)
-        pos[g[2]] = machine.pos[g[2]] + float(amount)
+    if fr in (4, 5):
+        here = [machine.pos[n] for n in g]
+        if any(v != v for v in here) or isinstance(amount, str):
+            raise ProgramError("unsupported", f"CYCLE800 _FR={fr} from a position only the machine "
+                               "knows (right after a swivel) is not simulated", src)
+        k = (0.0, 0.0, 1.0)
+        if _carr(machine, 23) != "P":
+            tool, _ = rotations(machine, machine.pos, src)
+            k = (tool[0][2], tool[1][2], tool[2][2])
+        if fr == 5:
+            t = float(amount)
+        else:
+            minus = md.get("$MA_POS_LIMIT_MINUS", {})
+            ends = [((plus if c > 0 else minus).get(n, math.inf) - h) / c
+                    for n, h, c in zip(g, here, k, strict=True) if abs(c) > 1e-12]
+            t = min(ends)
+            if not math.isfinite(t):
+                raise ProgramError("unsupported", "CYCLE800 _FR=4: the machine data give no travel "
+                                   "limit along the tool", src)
+        for n, h, c in zip(g, here, k, strict=True):
+            pos[n] = h + t * c
+    else:
+        z = _carr(machine, 40)
+        pos[g[2]] = float(z) if z else float(plus.get(g[2], pos[g[2]]))
     if fr == 2:
         for i, k in ((0, 38), (1, 39)):
             v = _carr(machine, k)

@@ -30,7 +30,7 @@ The rotations come from the rotary positions programmed at the time (an unknown 
 from __future__ import annotations
 
 from interpreters.sinumerik.frames import IDENTITY, matmul
-from interpreters.sinumerik.swivel import _carr, _rodrigues
+from interpreters.sinumerik.swivel import _carr, rotations, transpose
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
 
@@ -38,30 +38,8 @@ from vmach.source import SourceRef
 CODES = ("TOROT", "TOFRAME", "PAROT", "TOROTOF", "PAROTOF")
 
 
-def transpose(m):
-    return tuple(tuple(m[j][i] for j in range(3)) for i in range(3))
-
-
 def active(machine) -> bool:
     return machine.traori is not None and machine.traori.name == "TCARR"
-
-
-def rotations(machine, pos: dict, src: SourceRef):
-    """(R_tool, R_table) of swivel record 1 at the rotary positions ``pos`` (degrees)."""
-    names = (_carr(machine, 35), _carr(machine, 36))
-    values = [pos.get(n, float("nan")) for n in names]
-    if any(v != v for v in values):
-        raise ProgramError("unsupported", f"TCARR: the position of {' and '.join(names)} is only known "
-                           "to the machine (program the rotary axes after TCARR first)", src)
-    v1 = tuple(float(_carr(machine, k) or 0.0) for k in (7, 8, 9))
-    v2 = tuple(float(_carr(machine, k) or 0.0) for k in (10, 11, 12))
-    r1, r2 = _rodrigues(v1, values[0]), _rodrigues(v2, values[1])
-    kind = _carr(machine, 23)
-    if kind == "T":                     # both turn the tool: axis 1 carries axis 2
-        return matmul(r1, r2), IDENTITY
-    if kind == "P":                     # both turn the part; the vectors are the part's view
-        return IDENTITY, transpose(matmul(r2, r1))
-    return r1, transpose(r2)            # M: axis 1 the tool, axis 2 the table
 
 
 def select(machine, value, src: SourceRef, orientation) -> None:

@@ -107,9 +107,6 @@ def test_solid_and_projection_angles(tmp_path):
 
 
 def test_errors(tmp_path):
-    f = error_of(run(tmp_path, 'CYCLE800(4,"",0,57,0,0,0,10,0,0,0,0,0,1,100,1)\nM30\n',
-                     load_model("hybrid5").control))          # a B/C head: tool direction tilts
-    assert (f.kind, f.line) == ("unsupported", 1)
     r = run(tmp_path, 'G0 X0 Y0 Z10 B0 C0\nCYCLE800(5,"",0,57,0,0,0,10,0,0,0,0,0,1,25,1)\nM30\n',
             load_model("s5d").control)                           # table-table: +Z by _FR_I
     assert [c.axes["Z"] for c in r.commands if isinstance(c, MOTIONS)] == [10, 35]
@@ -256,3 +253,24 @@ def test_projection_angles_in_both_orders(tmp_path, order):
     assert np.degrees(np.arctan2(-z[1], z[2])) == pytest.approx(25)
     assert np.degrees(np.arctan2(z[0], z[2])) == pytest.approx(-35)
     assert abs(x[1] if order == 57 else y[0]) < 1e-12
+
+
+@pytest.mark.parametrize("fr", [4, 5])
+def test_retraction_along_a_tilted_tool(tmp_path, fr):
+    """hybrid5's B/C head tilted 30°: _FR 5 retracts 25 mm along the tool, 4 as far as the
+    travel allows (one axis at its end), before the swivel turns it."""
+    m = load_model("hybrid5")
+    body = f'G0 X0 Y0 Z10 B30 C60\nCYCLE800({fr},"",0,57,0,0,0,10,0,0,0,0,0,1,25,1)\nM30\n'
+    r = run(tmp_path, body, m.control)
+    assert r.completed, [f.render() for f in r.findings]
+    moves = [c for c in r.commands if isinstance(c, MOTIONS)]
+    q = np.array([[c.axes[a] for a in m.axes] for c in moves[:2]])
+    pose = m.fk(q)
+    step = pose.tip[1] - pose.tip[0]
+    assert np.abs(np.cross(step, pose.axis[0])).max() < 1e-9 and step @ pose.axis[0] > 0
+    if fr == 5:
+        assert np.linalg.norm(step) == pytest.approx(25, abs=1e-9)
+    else:
+        at_end = [abs(moves[1].axes[g] - m.limits[m.axes.index(g)][1 if d > 0 else 0]) < 1e-9
+                  for g, d in zip("XYZ", q[1, :3] - q[0, :3], strict=True) if abs(d) > 1e-9]
+        assert any(at_end) and np.linalg.norm(step) > 25
