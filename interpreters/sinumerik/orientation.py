@@ -48,7 +48,8 @@ DEFINITIONS = ("ORIEULER", "ORIRPY", "ORIRPY2", "ORIVIRT1", "ORIVIRT2")
 #: the model's machine data has no $MC_ORIAX_TURN_TAB_1/2 (MD21120/MD21130)
 TURN_TAB = (1, 2, 3)
 INTERPOLATION = {"ORIVECT": "vector", "ORIPLANE": "vector", "ORIAXES": "axes",
-                 "ORICONCW": "cone_cw", "ORICONCCW": "cone_ccw", "ORICONIO": "cone_io"}
+                 "ORICONCW": "cone_cw", "ORICONCCW": "cone_ccw", "ORICONIO": "cone_io",
+                 "ORICONTO": "cone_to"}
 
 
 @dataclass(frozen=True)
@@ -262,6 +263,11 @@ def _cone(machine, words: dict, orientation: dict, src: SourceRef):
                                "ORICONCCW or ORICONIO", src)
         return None
     if not words and not orientation:                 # the orientation stays
+        return None
+    if mode == "cone_to":                             # tangential: the end orientation alone
+        if words or not any(k.endswith("3") for k in orientation):
+            raise ProgramError("unsupported", "ORICONTO: a block with the end orientation (A3 B3 C3) "
+                               "alone is simulated", src)
         return None
     want = ("A7", "B7", "C7") if mode == "cone_io" else ("A6", "B6", "C6")
     wrong = [k for k in words if k not in want]

@@ -321,3 +321,27 @@ def test_cone_interpolation_oriconccw_oriconcw_oriconio(tmp_path, model):
         assert turned.max() <= tol.angle_step * (1 + 1e-9), mode
         assert np.abs(pose.axis[-1] - unit((0, 1, 1))).max() < 1e-9
         assert np.abs(pose.tip[-1] - (10, 0, 10)).max() < 1e-9
+
+
+@pytest.mark.parametrize("model", ["s5d", "mill5ac"])
+def test_oriconto_goes_on_tangentially(tmp_path, model):
+    """ORICONTO: the cone leaves the start orientation in the direction the orientation turned
+    at the end of the block before. After ORIVECT from Z to 45° toward +X (a turn in the X/Z
+    plane, ending toward +X), ORICONTO to 45° toward +Y: the first step leaves along +X (the
+    tangent), the circle through both on the unit sphere, FK of the end to 1e-9."""
+    m, cmds, found = solved(tmp_path, model, "TRAORI\nORIVECT\nG1 X0 Y0 Z10 A3=0 B3=0 C3=1 F500\n"
+                            "G1 A3=1 B3=0 C3=1\nORICONTO\nG1 X5 A3=0 B3=1 C3=1\nTRAFOOF\n")
+    assert found == []
+    _, pose = rows(m, cmds, 6)
+    a = pose.axis
+    first = a[0] - unit((1, 0, 1))
+    assert first[0] > 0 and abs(first[1]) > 0            # leaves on, then off, the X/Z plane
+    assert np.dot(unit(first), unit((1, 0, -1))) > 0.99  # along the previous turn's tangent
+    centre = a.mean(axis=0)                               # one circle: a plane cuts the sphere
+    normal = np.linalg.svd(a - centre)[2][-1]
+    assert np.abs((a - centre) @ normal).max() < 1e-9
+    assert np.abs(a[-1] - unit((0, 1, 1))).max() < 1e-9
+    assert np.abs(pose.tip[-1] - (5, 0, 10)).max() < 1e-9
+    _, _, found = solved(tmp_path, model, "TRAORI\nG0 X0 Y0 Z10 A3=0 B3=0 C3=1\nORICONTO\n"
+                         "G1 A3=0 B3=1 C3=1 F100\nTRAFOOF\n")
+    assert [(x.kind, x.line) for x in found] == [("invalid_value", 4)]

@@ -111,13 +111,23 @@ def _slerp(t0: np.ndarray, t1: np.ndarray, f: np.ndarray) -> np.ndarray:
     return np.cos(a) * t0 + np.sin(a) * perp
 
 
-def _turning(c: canon.OrientedMove, t0: np.ndarray, t1: np.ndarray):
+def _turning(c: canon.OrientedMove, t0: np.ndarray, t1: np.ndarray, tangent=None):
     """The tool vector as a function of the fraction (callable f (n,) → (n, 3) unit vectors) and
     the angle (degrees) it turns through: the great circle (ORIVECT), or a cone (ORICONCW/CCW
-    about ``c.cone``, ORICONIO through ``c.cone``): azimuth about the cone's axis uniformly,
-    the angle to the axis linearly from the start's to the end's. (None, 0) for a cone that
-    does not join them."""
+    about ``c.cone``, ORICONIO through ``c.cone``, ORICONTO leaving t0 along ``tangent``, the
+    way the orientation went at the end of the block before): azimuth about the cone's axis
+    uniformly, the angle to the axis linearly from the start's to the end's. (None, 0) for a
+    cone that does not join them."""
     great = math.degrees(math.acos(max(-1.0, min(1.0, float(t0 @ t1)))))
+    if c.interpolation == "cone_to" and great > 1e-9:
+        if tangent is None:
+            return None, 0.0
+        n = np.cross(tangent, t1 - t0)
+        if np.linalg.norm(n) < 1e-12:                 # t1 ahead on the great circle: ORIVECT
+            return (lambda f: _slerp(t0, t1, f)), great
+        u = _unit(n) if n @ t0 >= 0 else -_unit(n)
+        ccw = float(np.cross(u, t0) @ tangent) > 0
+        return _turning(replace(c, interpolation="cone_ccw" if ccw else "cone_cw", cone=tuple(u)), t0, t1)
     if c.cone is None or not c.interpolation.startswith("cone"):
         return (lambda f: _slerp(t0, t1, f)), great
     if c.interpolation == "cone_io":
@@ -226,11 +236,14 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
         qe[o.outer], qe[o.inner] = end
         t1 = o.vector(qe[None])[0]
     vector_mode = c.interpolation != "axes" and (by_vector or not math.isclose(t0 @ t1, 1.0))
-    turning, turn = _turning(c, t0, t1)
+    turning, turn = _turning(c, t0, t1, (last or {}).get("tangent"))
+    if last is not None:
+        last["tangent"] = None
     if turning is None:
         return [], error("invalid_value", "the cone does not take the tool from its start to its end "
-                         "orientation (the axis is along one of them, or the three orientations of "
-                         "ORICONIO do not span a cone)", c.source)
+                         "orientation (the axis is along one of them, the three orientations of "
+                         "ORICONIO do not span a cone, or ORICONTO follows no change of "
+                         "orientation)", c.source)
     along, chords = _path(c, tip0, tip1, geo, chord)
     spread = turn if vector_mode else max(abs(end[0] - prev[0]), abs(end[1] - prev[1]))
     n = n0 = max(chords, math.ceil(spread / step), 1)
@@ -259,6 +272,10 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
         q = o.linear_axes(q, along(f))
         if last is not None:
             last.update(q=q[-1].copy(), tip=tip1, axis=t1)
+    if last is not None and vector_mode and turn > 1e-9:    # the orientation's way at the end
+        d = t1 - turning(np.array([1.0 - 1e-6]))[0]
+        d = d - (d @ t1) * t1
+        last["tangent"] = _unit(d) if np.linalg.norm(d) > 1e-15 else None
     rows = []
     for r in q:
         axes = dict(cur)
