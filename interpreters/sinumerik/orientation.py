@@ -33,7 +33,7 @@ import math
 import sys
 from dataclasses import dataclass
 
-from interpreters.sinumerik import swivel, toolcarrier, tracyl, transmit
+from interpreters.sinumerik import oripath, swivel, toolcarrier, tracyl, transmit
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -49,7 +49,7 @@ DEFINITIONS = ("ORIEULER", "ORIRPY", "ORIRPY2", "ORIVIRT1", "ORIVIRT2")
 TURN_TAB = (1, 2, 3)
 INTERPOLATION = {"ORIVECT": "vector", "ORIPLANE": "vector", "ORIAXES": "axes",
                  "ORICONCW": "cone_cw", "ORICONCCW": "cone_ccw", "ORICONIO": "cone_io",
-                 "ORICONTO": "cone_to"}
+                 "ORICONTO": "cone_to", "ORIPATH": "path", "ORIPATHS": "path"}
 
 
 @dataclass(frozen=True)
@@ -68,6 +68,7 @@ class Modes:
         self.definition = "ORIEULER"
         self.interpolation = "vector"
         self.workpiece = True          # ORIWKS
+        self.lead = self.tilt = 0.0    # LEAD=, TILT= (oripath.py)
 
 
 def set_mode(machine, name: str) -> None:
@@ -158,7 +159,7 @@ def carrier(machine, value, src: SourceRef) -> None:
 def words(machine, v, src: SourceRef) -> bool:
     """Whether the block programs an orientation (``A3=`` …, left in ``v.interp``); an error
     without TRAORI."""
-    found = [k for k in (*WORDS, *CONE_WORDS) if k in v.interp]
+    found = [k for k in (*WORDS, *CONE_WORDS, *oripath.WORDS) if k in v.interp]
     if found and machine.traori is None:
         raise ProgramError("no_transformation", f"{', '.join(found)}: orientation programming needs "
                            "TRAORI", src)
@@ -300,6 +301,7 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
     words = {k: v.interp.pop(k) for k in WORDS if k in v.interp} if v.interp else {}
     cone = _cone(machine, {k: v.interp.pop(k) for k in CONE_WORDS if k in v.interp} if v.interp else {},
                  words, src)
+    relative = oripath.take(machine, v, src)
     if machine.cutcom.engaged or machine.corners.holding or machine.corners.modal > 0:
         raise ProgramError("unsupported", "tool radius compensation, chamfers or roundings under TRAORI "
                            "are not simulated", src)
@@ -344,13 +346,24 @@ def move(machine, v, src: SourceRef, suppress: bool) -> bool:
         kw = dict(plane=arc.plane, center=arc.center, clockwise=arc.clockwise, turns=arc.turns)
         if tilted:
             kw["frame"] = frame_of(machine)
+    if not carried and vec is None and not direct:   # LEAD/TILT, ORIPATH: from the path
+        arc = None
+        if kind == "arc":
+            lin = frames.lin if "frame" in kw else ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+            arc = (kw["plane"], kw["center"], tuple(axes[n] for n in g), kw["clockwise"], lin)
+        vec = oripath.vector(machine, relative, tuple(machine.pos[n] for n in g),
+                             tuple(new[n] for n in g), arc, src)
+    elif relative and ("LEAD" in relative or "TILT" in relative):
+        raise ProgramError("syntax", "a block programs the orientation either by LEAD/TILT or by the "
+                           "rotary axes, a vector or angles, not both", src)
     if carried:                      # the program point through the frames and the table
         if kind != "arc":
             axes.update(zip(g, frames.to_program(tuple(new[n] for n in g)), strict=True))
         kw["frame"] = toolcarrier.frame(machine, new, src)
         kw["hold_axes"] = not any(w.name in g for w, _ in v.axes)
     machine.sink.append(canon.OrientedMove(src, motion=kind, axes=axes, vector=vec,
-                                           interpolation=machine.ori.interpolation, cone=cone,
+                                           interpolation=machine.ori.interpolation.replace(
+                                               "path", "vector"), cone=cone,
                                            feed=0.0 if kind == "traverse" else machine.feed, **kw))
     if vec is not None:
         for r in rot:

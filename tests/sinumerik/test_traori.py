@@ -345,3 +345,33 @@ def test_oriconto_goes_on_tangentially(tmp_path, model):
     _, _, found = solved(tmp_path, model, "TRAORI\nG0 X0 Y0 Z10 A3=0 B3=0 C3=1\nORICONTO\n"
                          "G1 A3=0 B3=1 C3=1 F100\nTRAFOOF\n")
     assert [(x.kind, x.line) for x in found] == [("invalid_value", 4)]
+
+
+@pytest.mark.parametrize("model", ["s5d", "mill5ac", "h5d"])
+def test_lead_and_tilt_relative_to_the_path(tmp_path, model):
+    """LEAD: the surface normal (Z) turned toward the path tangent; TILT: then about the tangent
+    (the manual's definitions); modal; under ORIPATH every path block takes its orientation from
+    its own tangent (an arc's at its end), under ORIVECT only a block that programs them."""
+    body = ("TRAORI\nG1 X0 Y0 Z10 A3=0 B3=0 C3=1 F500\nORIPATH\nG1 X20 LEAD=10\nG1 Y20\n"
+            "G3 X0 Y40 I-20 J0\nG1 X-20 TILT=20\nORIVECT\nG1 X-30\nG1 Y30 LEAD=0 TILT=0\n"
+            "G1 Y20 A5=1 B5=0 C5=1 LEAD=15\nTRAFOOF\n")
+    m, cmds, found = solved(tmp_path, model, body)
+    assert found == []
+    s10, c10 = math.sin(math.radians(10)), math.cos(math.radians(10))
+    tilted = Rotation.from_rotvec(np.radians(20) * np.array([-1, 0, 0])).apply((-s10, 0, c10))
+    n5 = unit((1, 0, 1))
+    lead15 = math.cos(math.radians(15)) * n5 + math.sin(math.radians(15)) * np.array([0, -1, 0])
+    for line, want, tip in ((4, (s10, 0, c10), (20, 0, 10)), (5, (0, s10, c10), (20, 20, 10)),
+                            (6, (-s10, 0, c10), (0, 40, 10)), (7, tilted, (-20, 40, 10)),
+                            (9, tilted, (-30, 40, 10)), (10, (0, 0, 1), (-30, 30, 10)),
+                            (11, lead15, (-30, 20, 10))):
+        _, pose = rows(m, cmds, line)
+        assert np.abs(pose.axis[-1] - want).max() < 1e-9, line
+        assert np.abs(pose.tip[-1] - tip).max() < 1e-9, line
+    s5d = load_model("s5d").control
+    f = error_of(run(tmp_path, "TRAORI\nG1 X0 Y0 Z10 LEAD=5 F100\nM30\n", s5d))
+    assert (f.kind, f.line) == ("unsupported", 2)           # its start only the machine knows
+    f = error_of(run(tmp_path, "TRAORI\nG1 X0 Y0 Z10 F100\nG1 X5 LEAD=5 A3=0 B3=0 C3=1\nM30\n", s5d))
+    assert (f.kind, f.line) == ("syntax", 3)
+    f = error_of(run(tmp_path, "TRAORI\nG1 X0 Y0 Z10 F100\nG1 X5 A4=0 B4=0 C4=1 LEAD=5\nM30\n", s5d))
+    assert (f.kind, f.line) == ("unsupported", 3)
