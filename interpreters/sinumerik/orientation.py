@@ -36,6 +36,7 @@ from dataclasses import dataclass
 from interpreters.sinumerik import oripath, swivel, toolcarrier, tracyl, transmit
 from vmach import canon
 from vmach.errors import ProgramError
+from vmach.findings import info
 from vmach.source import SourceRef
 
 #: the orientation words (parser kind "orient")
@@ -135,6 +136,11 @@ def code(machine, name: str, src: SourceRef) -> bool:
     TRAORI or TRANSMIT alone, TRAFOOF); True for TRAFOOF (TRACYL's and TRANSMIT's end follows)."""
     if name in ("ORIWKS", "ORIMKS", *INTERPOLATION, *DEFINITIONS):
         set_mode(machine, name)
+        said = any(f.kind == "orientation_simplified" for f in machine.notes)
+        if name == "ORIPATHS" and not said:
+            machine.notes.append(info("orientation_simplified", "ORIPATHS runs as ORIPATH: the "
+                                      "smoothing of the orientation at the path's corners is not "
+                                      "simulated", src, code=name))
         return False
     if name in toolcarrier.CODES:                    # G group 53: TOROT, PAROT …
         toolcarrier.code(machine, name, src)

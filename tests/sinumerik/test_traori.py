@@ -375,3 +375,11 @@ def test_lead_and_tilt_relative_to_the_path(tmp_path, model):
     assert (f.kind, f.line) == ("syntax", 3)
     f = error_of(run(tmp_path, "TRAORI\nG1 X0 Y0 Z10 F100\nG1 X5 A4=0 B4=0 C4=1 LEAD=5\nM30\n", s5d))
     assert (f.kind, f.line) == ("unsupported", 3)
+
+
+def test_oripaths_says_what_it_does_not_smooth(tmp_path):
+    r = run(tmp_path, "TRAORI\nORIPATHS\nG1 X0 Y0 Z10 A3=0 B3=0 C3=1 F100\nG1 X10\nORIPATHS\nTRAFOOF\nM30\n",
+            load_model("s5d").control)
+    assert r.completed
+    assert [(f.kind, f.severity, f.line) for f in r.findings if f.kind == "orientation_simplified"] == [
+        ("orientation_simplified", "info", 2)]
