@@ -257,9 +257,11 @@ class OrientedMove(Command):
         orientations) or ``"vector"`` (ORIVECT/ORIPLANE: the vector turns on the great circle
         between them); either way the tip moves on its programmed path.
     frame : None, or 12 numbers (origin x y z, then a row-major 3x3 linear part) when the
-        block leaves a geometry axis where it is under a rotated frame: then the geometry values
-        in ``axes`` are **program coordinates** (``nan`` where the tip stays), and the
-        workpiece point is ``origin + linear · program``.
+        block leaves a geometry axis where it is under a rotated frame, is a circle in a plane
+        the frame tilts (``plane``/``center`` then in program coordinates too), comes from a
+        cycle under CYCLE800 or TRAORI, or runs under TCARR: then the geometry values in
+        ``axes`` are **program coordinates** (``nan`` where the tip stays), and the workpiece
+        point is ``origin + linear · program``.
     prefer : None, or (rotary axis name, +1 or −1): of the two solutions take the one with the
         higher (+1) or lower (−1) value of that axis when both are inside the travel
         (CYCLE800's direction); None: the transformation's own rule.
