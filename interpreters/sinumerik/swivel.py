@@ -8,10 +8,10 @@ _DMODE)``:
   ``p_old = (X0, Y0, Z0) + R · ((X1, Y1, Z1) + p_new)``. ``_MODE`` bits 7–6 choose how R is
   given: 0 axis by axis (bits 1–0, 3–2, 5–4 name the axes of the first, second and third
   rotation, 1 X, 2 Y, 3 Z: 57 = X, Y, Z; each turns the coordinates already turned, by _A, _B,
-  _C), 64 solid angles (about Z by _A, then about the new Y by _B), 128 projection angles (the
-  new Z's projections make _A with Z in the Y/Z plane and _B in the Z/X plane; order X·Y
-  (57): the new X lies in the old Z/X plane, Y·X (54): the new Y in the old Y/Z plane; then
-  about the new Z by _C), 192 direct (``_A``, ``_B`` the
+  _C), 64 solid angles (about Z by _A, then about the new Y by _B), 128 projection angles (Xα, Yα:
+  the new Z's projections make _A with Z in the Y/Z plane and _B in the Z/X plane, the new X
+  lies in the old Z/X plane; then about the new Z by _C; the other projection positions are
+  ``unsupported``), 192 direct (``_A``, ``_B`` the
   positions of rotary axes 1 and 2 of the swivel data; R turns as those axes turn the tool
   relative to the part, from ``$TC_CARR7…12`` and the kinematic type ``$TC_CARR23``).
   ``_ST`` units digit 0 replaces an active swivel, 1 adds to it.
@@ -103,20 +103,15 @@ def rotation(machine, mode: int, a: float, b: float, c: float, src: SourceRef):
     if how == 0x40:
         return matmul(rot_axis(2, a), rot_axis(1, b))
     if how == 0x80:
-        if (mode & 0x3F) not in (0, 0x39, 0x36):
-            raise ProgramError("unsupported", "CYCLE800 projection angles in an order other than X, Y "
-                               "or Y, X are not simulated", src)
+        if (mode & 0x3F) not in (0, 0x39):
+            raise ProgramError("unsupported", "CYCLE800 projection angles other than Xα, Yα (the new "
+                               "Z's projections) are not simulated", src)
         nz = (math.tan(math.radians(b)), -math.tan(math.radians(a)), 1.0)
         ln = math.sqrt(sum(v * v for v in nz))
         z = tuple(v / ln for v in nz)
-        if (mode & 0x3F) == 0x36:                     # Y, X: the new Y in the old Y/Z plane
-            ly = math.hypot(z[2], z[1])
-            y = (0.0, z[2] / ly, -z[1] / ly)
-            x = (y[1] * z[2] - y[2] * z[1], y[2] * z[0] - y[0] * z[2], y[0] * z[1] - y[1] * z[0])
-        else:                                         # X, Y: the new X in the old Z/X plane
-            lx = math.hypot(z[2], z[0])
-            x = (z[2] / lx, 0.0, -z[0] / lx)
-            y = (z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0])
+        lx = math.hypot(z[2], z[0])
+        x = (z[2] / lx, 0.0, -z[0] / lx)
+        y = (z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0])
         m = tuple(tuple(col[i] for col in (x, y, z)) for i in range(3))
         return matmul(m, rot_axis(2, c))  # type: ignore[arg-type]
     v1 = tuple(float(_carr(machine, k) or 0.0) for k in (7, 8, 9))

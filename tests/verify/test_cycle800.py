@@ -240,19 +240,20 @@ def test_a_settable_frame_selected_under_cycle800_keeps_the_swivel(tmp_path):
     assert np.allclose(np.reshape(frame.rotation, (3, 3)), np.eye(3)) and frame.origin["X"] == 10
 
 
-@pytest.mark.parametrize("order", [57, 54])
-def test_projection_angles_in_both_orders(tmp_path, order):
-    """_MODE 128 + order: the new Z's projections make _A with Z in the Y/Z plane and _B in the
-    Z/X plane; X·Y (57) keeps the new X in the old Z/X plane, Y·X (54) the new Y in the Y/Z
-    plane; _C turns about the new Z."""
-    body = f'G0 X0 Y0 Z50 B0 C0\nCYCLE800(0,"",0,{128 + order},0,0,0,25,-35,0,0,0,0,0,100,1)\nM30\n'
+def test_projection_angles_x_y(tmp_path):
+    """_MODE 128 + 57 (Xα, Yα): the new Z's projections make _A with Z in the Y/Z plane and _B
+    in the Z/X plane, the new X stays in the old Z/X plane; another projection position is
+    unsupported at its line."""
+    body = 'G0 X0 Y0 Z50 B0 C0\nCYCLE800(0,"",0,185,0,0,0,25,-35,0,0,0,0,0,100,1)\nM30\n'
     r = run(tmp_path, body, load_model("s5d").control)
     rot = np.reshape([c for c in r.commands if isinstance(c, SetFrame)][-1].rotation, (3, 3))
-    x, y, z = rot[:, 0], rot[:, 1], rot[:, 2]
+    x, z = rot[:, 0], rot[:, 2]
     assert np.allclose(rot.T @ rot, np.eye(3), atol=1e-12) and np.linalg.det(rot) == pytest.approx(1)
     assert np.degrees(np.arctan2(-z[1], z[2])) == pytest.approx(25)
     assert np.degrees(np.arctan2(z[0], z[2])) == pytest.approx(-35)
-    assert abs(x[1] if order == 57 else y[0]) < 1e-12
+    assert abs(x[1]) < 1e-12
+    f = error_of(run(tmp_path, body.replace(",185,", ",158,"), load_model("s5d").control))
+    assert (f.kind, f.line) == ("unsupported", 2)
 
 
 @pytest.mark.parametrize("fr", [4, 5])
