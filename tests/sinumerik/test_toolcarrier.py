@@ -72,18 +72,15 @@ def test_torot_on_a_swivel_head(tmp_path):
     assert abs(step @ k) < 1e-9 and np.linalg.norm(step) == pytest.approx(5, abs=1e-9)
 
 
-def test_errors(tmp_path):
-    s5d = load_model("s5d").control
-    f = error_of(run(tmp_path, "TCARR=2\nM30\n", s5d))
-    assert (f.kind, f.line) == ("unsupported", 1)
-    f = error_of(run(tmp_path, "PAROT\nM30\n", s5d))
-    assert (f.kind, f.line) == ("unsupported", 1)
-    f = error_of(run(tmp_path, "TCARR=1\nTOROTX\nM30\n", s5d))
-    assert (f.kind, f.line) == ("unsupported", 2)
-    f = error_of(run(tmp_path, "TRAORI\nG0 X0 Y0 Z10 A3=0 B3=0 C3=1\nTRAFOOF\nTCARR=1\nPAROT\nM30\n", s5d))
-    assert (f.kind, f.line) == ("unsupported", 5)           # B, C only known to the machine
-    f = error_of(run(tmp_path, "G0 B0 C0\nTCARR=1\nG1 X0 Y0 Z5 A3=0 B3=0 C3=1 F100\nM30\n", s5d))
-    assert (f.kind, f.line) == ("unsupported", 3)
+@pytest.mark.parametrize("body, line", [
+    ("TCARR=2\nM30\n", 1),                                         # record 1 only
+    ("PAROT\nM30\n", 1),                                           # without TCARR
+    ("TCARR=1\nTOROTX\nM30\n", 2),
+    ("TRAORI\nG0 X0 Y0 Z10 A3=0 B3=0 C3=1\nTRAFOOF\nTCARR=1\nPAROT\nM30\n", 5),   # B, C unknown
+    ("G0 B0 C0\nTCARR=1\nG1 X0 Y0 Z5 A3=0 B3=0 C3=1 F100\nM30\n", 3)])         # a vector
+def test_errors(tmp_path, body, line):
+    f = error_of(run(tmp_path, body, load_model("s5d").control))
+    assert (f.kind, f.line) == ("unsupported", line)
 
 
 def test_a_machine_without_swivel_data(tmp_path):

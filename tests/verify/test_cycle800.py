@@ -39,6 +39,30 @@ M30
 """
 
 
+#: the swivelled plane of the pocket programs: turned 20° about X through (0, 4, 0)
+RX20 = Rotation.from_euler("x", 20, degrees=True).as_matrix()
+ORIGIN = np.array([0.0, 4.0, 0.0])
+
+
+def exported(tmp_path, name: str, body: str, machine: str):
+    """The part ``vmach verify`` exports for the program ``body`` (clean: exit 0)."""
+    prog = tmp_path / name
+    prog.write_text(body)
+    part = tmp_path / "part.stl"
+    assert main(["verify", str(prog), "--machine", machine, "--tools", str(TOOLS),
+                 "--stock", "box:x=40,y=40,z=30", "--export", str(part), "--out", str(tmp_path / "o"),
+                 "--no-images", "--quiet"]) == 0
+    return trimesh.load(part)
+
+
+def plane_loops(mesh, depth: float, reach: float) -> list:
+    """The part's section loops in the swivelled plane z' = depth, in the plane's coordinates,
+    those within ``reach`` of its origin."""
+    sec = mesh.section(plane_origin=ORIGIN + RX20 @ (0, 0, depth), plane_normal=RX20 @ (0, 0, 1))
+    found = [(lp - ORIGIN) @ RX20 for lp in (sec.discrete if sec is not None else [])]
+    return [lp for lp in found if np.abs(lp[:, :2]).max() < reach]
+
+
 def swivelled(machine: str, body: str, tmp_path):
     m = load_model(machine)
     r = run(tmp_path, body, m.control)
@@ -117,23 +141,11 @@ def test_errors(tmp_path):
 
 @pytest.mark.parametrize("machine, rot0", [("s5d", "B0"), ("mill5ac", "A0")])
 def test_a_pocket_in_the_swivelled_plane_lands_where_the_plane_says(tmp_path, machine, rot0):
-    prog = tmp_path / "POCKET.MPF"
-    prog.write_text(POCKET.format(rot0=rot0, dir=-1))
-    part = tmp_path / "part.stl"
-    assert main(["verify", str(prog), "--machine", machine, "--tools", str(TOOLS),
-                 "--stock", "box:x=40,y=40,z=30", "--export", str(part), "--out", str(tmp_path / "o"),
-                 "--no-images", "--quiet"]) == 0
-    mesh = trimesh.load(part)
-    rx = Rotation.from_euler("x", 20, degrees=True).as_matrix()
-    origin = np.array([0.0, 4.0, 0.0])
+    mesh = exported(tmp_path, "POCKET.MPF", POCKET.format(rot0=rot0, dir=-1), machine)
 
     def walls(depth):
         """The pocket's loops in the plane z' = depth, in the plane's coordinates."""
-        sec = mesh.section(plane_origin=origin + rx @ (0, 0, depth), plane_normal=rx @ (0, 0, 1))
-        if sec is None:
-            return []
-        loops = [(loop - origin) @ rx for loop in sec.discrete]
-        return [lp for lp in loops if np.abs(lp[:, :2]).max() < 8]
+        return plane_loops(mesh, depth, 8)
 
     (loop,) = walls(-2.0)                               # 10 x 10 walls, at z' = −2 exactly
     assert np.abs(loop[:, 2] + 2.0).max() < 1e-6
@@ -164,21 +176,10 @@ M30
 def test_pocket3_and_a_circle_in_the_swivelled_plane(tmp_path, machine, rot0):
     """The milling cycle runs in the swivelled frame (its moves are the tip in the plane) and a
     G2 lies in the plane: both land where the plane says on the exported part."""
-    prog = tmp_path / "SWIVEL3.MPF"
-    prog.write_text(POCKET3_SWIVELLED.format(rot0=rot0))
-    part = tmp_path / "part.stl"
-    out = tmp_path / "o"
-    assert main(["verify", str(prog), "--machine", machine, "--tools", str(TOOLS),
-                 "--stock", "box:x=40,y=40,z=30", "--export", str(part), "--out", str(out),
-                 "--no-images", "--quiet"]) == 0
-    mesh = trimesh.load(part)
-    rx = Rotation.from_euler("x", 20, degrees=True).as_matrix()
-    origin = np.array([0.0, 4.0, 0.0])
+    mesh = exported(tmp_path, "SWIVEL3.MPF", POCKET3_SWIVELLED.format(rot0=rot0), machine)
 
     def loops(depth):
-        sec = mesh.section(plane_origin=origin + rx @ (0, 0, depth), plane_normal=rx @ (0, 0, 1))
-        found = [(lp - origin) @ rx for lp in (sec.discrete if sec is not None else [])]
-        return [lp for lp in found if np.abs(lp[:, :2]).max() < 19.5]
+        return plane_loops(mesh, depth, 19.5)
 
     pocket = [lp for lp in loops(-2.0) if lp[:, 0].max() < 7]
     (loop,) = pocket
