@@ -268,7 +268,7 @@ class Machine:
                 self.path_mode = name
             elif grp == 11:
                 block_exact = True
-            elif grp in (25, 50, 51, 100):
+            elif grp in (25, 50, 51, 53, 100):
                 if name == "TRACYL":
                     raise ProgramError("syntax", "TRACYL needs the working diameter: TRACYL(d)", src.at(col))
                 if orientation.code(self, name, src.at(col)) and self.tracyl is not None:
@@ -590,8 +590,11 @@ class Machine:
     _plain_targets = targets.plain_targets
     _targets = targets.targets
 
-    def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool, about_pole: bool = False) -> tuple:
-        """The block's ArcFeed and its centre (a, b) in program coordinates of the plane."""
+    def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool, about_pole: bool = False,
+            in_program: bool = False) -> tuple:
+        """The block's ArcFeed and its centre (a, b) in program coordinates of the plane.
+        ``in_program``: the ArcFeed itself in program coordinates (end, centre, direction as
+        programmed; any frame, for the orientation transformation to map: orientation.py)."""
         g = self.geometry
         plane = PLANES[self.plane]
         a_name, b_name, _ = plane
@@ -605,7 +608,7 @@ class Machine:
         letters = {"X": "I", "Y": "J", "Z": "K"}
         la, lb = letters[a_name], letters[b_name]
         cw = self.motion == "G2"
-        if not suppress and frames.rotated and not frames.similar(ia, ib):
+        if not suppress and frames.rotated and not frames.similar(ia, ib) and not in_program:
             raise ProgramError("unsupported", "a circle under a frame that scales the plane's axes "
                                "differently (an ellipse) is not simulated", src)
         if self.motion == "CIP":
@@ -654,6 +657,11 @@ class Machine:
         turns = int(v.interp.get("TURN", (0, None))[0])
         if self.feed <= 0:
             raise ProgramError("zero_feed", "feed move with F0 (no feed programmed)", src)
+        if in_program:
+            prog = dict(new)
+            prog.update(zip(g, pe, strict=True))
+            return canon.ArcFeed(src, axes=prog, plane=plane, center=(ca, cb), clockwise=cw, turns=turns,
+                                 feed=self.feed), (ca, cb)
         cmd = canon.ArcFeed(src, axes=new, plane=plane, center=(cm[ia], cm[ib]),
                             clockwise=cw if suppress else self.machine_cw(cw), turns=turns, feed=self.feed)
         return cmd, (ca, cb)

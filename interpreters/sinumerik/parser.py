@@ -49,7 +49,9 @@ _INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "tur
            "AR": "interp"}
 _INTERP_UNSUPPORTED = {"ANG"}
 _BUILTINS = {"SETMS", "MSG", "WORKPIECE", "TRACYL", "TRAORI", "CYCLE800", "TRANSMIT"}
-_ORIENT = {"A2", "B2", "C2", "A3", "B3", "C3"}   # orientation words under TRAORI (orientation.py)
+# orientation words under TRAORI (orientation.py): angles, vector, cone axis, intermediate vector
+_ORIENT = {"A2", "B2", "C2", "A3", "B3", "C3", "A6", "B6", "C6", "A7", "B7", "C7",
+           "A4", "B4", "C4", "A5", "B5", "C5", "LEAD", "TILT"}
 _SINGLE = {"F": "feed", "S": "speed", "M": "m", "T": "tool", "D": "edge", "H": "aux", "P": "repeat"}
 
 
