@@ -175,3 +175,13 @@ def test_a_mistake_in_a_cycle_is_caught_at_its_line(shop, line, old, new, kind, 
     assert code == 1 and errors
     assert {(f["kind"], f["line"]) for f in errors} == {(kind, line)}
     assert any(f["phase"].startswith(phase) for f in errors)
+
+
+def test_cycle79_hexagon_across_flats_and_corners(tmp_path):
+    """A hexagon 24 across flats, R2 corners, 4 high at (30, 25) from a Ø40 blank: the flats
+    12 from the centre along X, the corners (12 − 2)/cos 30° + 2 from it along Y."""
+    mesh = cut(tmp_path, "CYCLE79(10, 0, 2, -4, 30, 25, 40, 0, 6, 24, 2, 2, 0, 0, 600, 200, 0, 1)")
+    hexagon = inner(mesh, -2, (30, 25))
+    corner = (12 - 2) / np.cos(np.pi / 6) + 2
+    assert_box(hexagon, [18, 25 - corner], [42, 25 + corner])
+    assert mesh.bounds[0][2] == pytest.approx(-12) and len(loops(mesh, -4.05)) == 1

@@ -139,6 +139,24 @@ def rounded_rect(centre, hx: float, hy: float, rc: float, angle: float, clockwis
     return _finish((hx, 0.0), segs, centre, angle, clockwise)
 
 
+def rounded_polygon(centre, n: int, apothem: float, rc: float, angle: float, clockwise: bool):
+    """A regular n-gon about ``centre`` whose flats lie ``apothem`` from it, the first flat's
+    outward normal at ``angle`` (radians), its corners rounded with radius rc (at most the
+    apothem): start (the middle of the first flat) and segments."""
+    rc = max(0.0, min(rc, apothem))
+    half = math.pi / n
+    dist = (apothem - rc) / math.cos(half)          # corner centres from the centre
+    normals = [(math.cos(2 * half * k), math.sin(2 * half * k)) for k in range(n + 1)]
+    segs = []                                       # counter-clockwise from the first flat
+    for k in range(n):
+        c = (dist * math.cos(2 * half * k + half), dist * math.sin(2 * half * k + half))
+        segs.append(("line", (c[0] + rc * normals[k][0], c[1] + rc * normals[k][1])))
+        if rc > TINY:
+            segs.append(("arc", (c[0] + rc * normals[k + 1][0], c[1] + rc * normals[k + 1][1]), c))
+    segs.append(("line", (apothem, 0.0)))
+    return _finish((apothem, 0.0), segs, centre, angle, clockwise)
+
+
 def circle(centre, radius: float, clockwise: bool):
     """A full circle about ``centre`` from its point at angle 0: start and two half arcs."""
     if radius <= TINY:
