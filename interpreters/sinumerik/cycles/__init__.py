@@ -14,7 +14,16 @@ the cycles that work at the current position), :func:`run` and :func:`modal`.
 
 from __future__ import annotations
 
-from interpreters.sinumerik.cycles import boring, engraving, facing, pockets, positions, slots, spigots
+from interpreters.sinumerik.cycles import (
+    boring,
+    engraving,
+    facing,
+    measuring,
+    pockets,
+    positions,
+    slots,
+    spigots,
+)
 from interpreters.sinumerik.cycles.common import Context
 from interpreters.sinumerik.cycles.parameters import SPECS, bind
 from interpreters.sinumerik.cycles.path import TooMany
@@ -31,6 +40,8 @@ _EXPAND = {
     "CYCLE85": boring.bore, "CYCLE86": boring.bore, "CYCLE87": boring.bore,
     "CYCLE88": boring.bore, "CYCLE89": boring.bore,
     "CYCLE60": engraving.engrave,
+    "CYCLE976": measuring.measure, "CYCLE977": measuring.measure, "CYCLE978": measuring.measure,
+    "CYCLE979": measuring.measure, "CYCLE998": measuring.measure,
     "CYCLE802": lambda ctx: positions.positions(ctx, modal),
 }
 if set(_EXPAND) != set(SPECS):

@@ -67,6 +67,10 @@ class Path:
     def feed(self, f: float, a=None, b=None, n=None) -> None:
         self.machine.sink.append(canon.LinearFeed(self.src, axes=self._target(a, b, n), feed=f))
 
+    def probe(self, f: float, a=None, b=None, n=None) -> None:
+        """A measuring move (the probe stops at contact; verify finds where)."""
+        self.machine.sink.append(canon.ProbeMove(self.src, axes=self._target(a, b, n), feed=f))
+
     def arc(self, f: float, end, centre, clockwise: bool, n=None) -> None:
         """An arc (a helix when ``n`` is given) in the plane to ``end`` about ``centre``."""
         m = self.machine
