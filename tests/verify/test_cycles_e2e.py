@@ -185,3 +185,26 @@ def test_cycle79_hexagon_across_flats_and_corners(tmp_path):
     corner = (12 - 2) / np.cos(np.pi / 6) + 2
     assert_box(hexagon, [18, 25 - corner], [42, 25 + corner])
     assert mesh.bounds[0][2] == pytest.approx(-12) and len(loops(mesh, -4.05)) == 1
+
+
+@pytest.mark.slow
+def test_the_operate_cycles_fixture_verifies_clean_and_a_wrong_depth_is_caught(shop):
+    """fixtures/cycles/SHOP2.MPF: CYCLE79, CYCLE802 with MCALL CYCLE81 and CYCLE60 verify clean;
+    the hexagon's flats are 20 from its centre; its depth typed −25 for −6 runs the Ø12 end
+    mill's shank (above its 20 mm flutes) into the block at the CYCLE79 line."""
+    code, report, part = _verify(shop, "SHOP2.MPF")
+    assert code == 0 and [f for f in report["findings"] if f["severity"] != "info"] == []
+    mesh = trimesh.load(part)
+    hexagon = inner(mesh, -3, (30, 40))
+    assert hexagon[:, 0].min() == pytest.approx(10, abs=SIDE) and hexagon[:, 0].max() == pytest.approx(50, abs=SIDE)
+    for x, y in ((75, 12), (88, 25), (75, 38)):                             # CYCLE802's holes
+        hole = inner(mesh, -7, (x, y))                                      # above the point
+        assert np.abs(np.hypot(hole[:, 0] - x, hole[:, 1] - y) - 3.4).max() < SIDE
+    assert mesh.bounds[1][2] == pytest.approx(1, abs=FLAT)
+    assert len(loops(mesh, 0.8)) > len(loops(mesh, 0.6))                     # the text, 0.3 deep
+    text = (shop / "SHOP2.MPF").read_text()
+    line = text[:text.index("N50 CYCLE79")].count("\n") + 1
+    (shop / "BAD2.MPF").write_text(text.replace("CYCLE79(10, 1, 2, -6,", "CYCLE79(10, 1, 2, -25,"))
+    code, report, _ = _verify(shop, "BAD2.MPF")
+    errors = [f for f in report["findings"] if f["severity"] == "error"]
+    assert code == 1 and {(f["kind"], f["line"]) for f in errors} == {("holder_collision", line)}

@@ -11,7 +11,7 @@ _CHARH high.
   (0: the linear spacing along the arc).
 
 Each stroke: rapid over its start at the safety clearance, down to _DP at _FFD, along it at
-_FFP1, up at rapid. Phases ``character k/n 'C'``; the cycle ends at the retraction plane.
+_FFP1, up to the reference plane at _FFD and on at rapid. Phases ``character k/n 'C'``; the cycle ends at the retraction plane.
 """
 
 from __future__ import annotations
@@ -106,5 +106,6 @@ def engrave(ctx: Context) -> None:
             p.feed(f_depth, n=h.depth)
             for q in stroke[1:]:
                 p.feed(f_plane, *q)
+            p.feed(f_depth, n=h.rfp)
             p.rapid(n=h.safe)
     ctx.retract(h)
