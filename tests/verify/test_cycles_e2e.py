@@ -196,7 +196,7 @@ def test_the_operate_cycles_fixture_verifies_clean_and_a_wrong_depth_is_caught(s
     assert code == 0 and [f for f in report["findings"] if f["severity"] != "info"] == []
     mesh = trimesh.load(part)
     hexagon = inner(mesh, -3, (30, 40))
-    assert hexagon[:, 0].min() == pytest.approx(10, abs=SIDE) and hexagon[:, 0].max() == pytest.approx(50, abs=SIDE)
+    assert [hexagon[:, 0].min(), hexagon[:, 0].max()] == pytest.approx([10, 50], abs=SIDE)
     for x, y in ((75, 12), (88, 25), (75, 38)):                             # CYCLE802's holes
         hole = inner(mesh, -7, (x, y))                                      # above the point
         assert np.abs(np.hypot(hole[:, 0] - x, hole[:, 1] - y) - 3.4).max() < SIDE

@@ -11,7 +11,8 @@ _CHARH high.
   (0: the linear spacing along the arc).
 
 Each stroke: rapid over its start at the safety clearance, down to _DP at _FFD, along it at
-_FFP1, up to the reference plane at _FFD and on at rapid. Phases ``character k/n 'C'``; the cycle ends at the retraction plane.
+_FFP1, up to the reference plane at _FFD and on at rapid. Phases ``character k/n 'C'``; the
+cycle ends at the retraction plane.
 """
 
 from __future__ import annotations
