@@ -71,3 +71,21 @@ def test_a_probe_meeting_nothing_or_hitting_the_part_is_caught_at_its_line(tmp_p
     code, found, _ = _verify(tmp_path, body)
     assert code == 1 and (kind, line) in found
     assert {k for k, _ in found} <= {"probe_no_contact", "probe_collision"}
+
+
+def test_linuxcnc_g38_stops_at_contact_with_the_stock(tmp_path):
+    """G38.2 toward the block's side from X −20 to X 5 stops at X −3 (a Ø6 ball): the rapid
+    back starts there, clean; G38.2 that meets nothing is probe_no_contact at its line,
+    G38.3 (no error without contact) is not."""
+    (tmp_path / "tools.toml").write_text(TOOLS.replace('name = "PROBE"', 'name = "PROBE"\nnumber = 1'))
+    prog = tmp_path / "p.ngc"
+    prog.write_text("G21 G17 G90\nT1 M6 G43\nG0 X-20 Y25 Z30\nG0 Z-5\nG38.2 X5 F300\nG0 X-20\n"
+                    "G38.3 X-15 F300\nG38.2 X-16 F300\nG0 Z30\nM2\n")
+    out = tmp_path / "o"
+    code = main(["verify", str(prog), "--machine", "mill3", "--tools", str(tmp_path / "tools.toml"),
+                 "--stock", "box:xmin=0,xmax=60,ymin=0,ymax=50,zmin=-12,zmax=0", "--out", str(out),
+                 "--no-images", "--quiet"])
+    report = json.loads((out / "report.json").read_text())
+    assert code == 1
+    assert [(f["kind"], f["line"]) for f in report["findings"] if f["severity"] != "info"] == [
+        ("probe_no_contact", 8)]
