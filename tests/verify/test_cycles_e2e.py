@@ -189,7 +189,8 @@ def test_cycle79_hexagon_across_flats_and_corners(tmp_path):
 
 @pytest.mark.slow
 def test_the_operate_cycles_fixture_verifies_clean_and_a_wrong_depth_is_caught(shop):
-    """fixtures/cycles/SHOP2.MPF: CYCLE79, CYCLE802 with MCALL CYCLE81 and CYCLE60 verify clean;
+    """fixtures/cycles/SHOP2.MPF: CYCLE79, CYCLE802 with MCALL CYCLE81, CYCLE60, CYCLE977 and
+    CYCLE978 (a probe measuring the hexagon and the block's side) verify clean;
     the hexagon's flats are 20 from its centre; its depth typed −25 for −6 runs the Ø12 end
     mill's shank (above its 20 mm flutes) into the block at the CYCLE79 line."""
     code, report, part = _verify(shop, "SHOP2.MPF")
@@ -208,3 +209,9 @@ def test_the_operate_cycles_fixture_verifies_clean_and_a_wrong_depth_is_caught(s
     code, report, _ = _verify(shop, "BAD2.MPF")
     errors = [f for f in report["findings"] if f["severity"] == "error"]
     assert code == 1 and {(f["kind"], f["line"]) for f in errors} == {("holder_collision", line)}
+    # the hexagon measured as a web 30 wide: the probe goes down onto its flat, at CYCLE977
+    line = text[:text.index("N180 CYCLE977")].count("\n") + 1
+    (shop / "BAD3.MPF").write_text(text.replace("CYCLE977(104, , , 1, 40,", "CYCLE977(104, , , 1, 30,"))
+    code, report, _ = _verify(shop, "BAD3.MPF")
+    errors = [f for f in report["findings"] if f["severity"] == "error"]
+    assert code == 1 and {(f["kind"], f["line"]) for f in errors} == {("probe_collision", line)}
