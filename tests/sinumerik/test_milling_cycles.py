@@ -30,7 +30,7 @@ def test_every_cycle_has_its_parameter_list_as_data():
     for spec in SPECS.values():
         names = [p.name for p in spec.parameters]
         assert len(names) == len(set(names))
-        heights = names[1:4] if spec.name == "CYCLE60" else names[:3]    # after the text
+        heights = names[1:4] if spec.parameters[0].type == "string" else names[:3]  # after a text
         assert heights in (["RTP", "RFP", "SDIS"], ["_RTP", "_RFP", "_SDIS"]) \
             or spec.family in ("positions", "measuring")
         assert all(p.type in ("real", "int", "string") and p.meaning for p in spec.parameters)

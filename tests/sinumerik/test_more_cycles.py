@@ -115,3 +115,39 @@ def test_cycle60_unknown_character_and_no_height(tmp_path):
     assert err(tmp_path, 'CYCLE60("A~", 10, 0, 2, -0.2, 0, 0, 0, 6)') == ("cycle_parameter", 4)
     assert err(tmp_path, 'CYCLE60("A", 10, 0, 2, -0.2, 0, 0, 0, 0)') == ("cycle_parameter", 4)
     assert err(tmp_path, 'CYCLE60(5, 10, 0, 2, -0.2, 0, 0, 0, 6)') == ("type_error", 4)
+
+
+CONTOUR = "PROC CONT\nG1 X10 Y10\nX60 CHF=5\nY40\nG3 X50 Y50 CR=10\nG1 X10\nY10\nM17\n"
+
+
+def test_cycle72_compensates_the_contour_with_the_allowance(tmp_path):
+    """The subprogram's rectangle run counter-clockwise with G41 (the tool inside it), Ø10,
+    FAL 0.5: the walls 5.5 inside, the R10 corner an arc of 4.5 about (50, 40), the chamfer
+    offset too; two levels of 2.9 down to −6 + FALD 0.2; the approach 10 before the start."""
+    call = 'CYCLE72("CONT", 10, 0, 2, -6, 3, 0.5, 0.2, 500, 100, 111, 41, 1, 10, 800, 1, 10)'
+    r = run(tmp_path, HEAD + call + "\nM30\n", options=R5, CONT_DOT_SPF=CONTOUR)
+    assert r.completed, [f.render() for f in r.findings]
+    ms = [m for m in moves(r) if m.source.line == 4]
+    cut = [m for m in ms if isinstance(m, (LinearFeed, ArcFeed)) and m.source.phase == "roughing depth 1/2"]
+    xs, ys = [m.axes["X"] for m in cut], [m.axes["Y"] for m in cut]
+    assert min(xs) == pytest.approx(10) and max(xs) == pytest.approx(54.5)   # from the approach
+    assert min(ys[1:]) == pytest.approx(10) and max(ys) == pytest.approx(44.5)
+    arc = [m for m in cut if isinstance(m, ArcFeed)]
+    assert len(arc) == 1 and arc[0].center == pytest.approx((50, 40))
+    assert math.dist((arc[0].axes["X"], arc[0].axes["Y"]), arc[0].center) == pytest.approx(4.5)
+    infeeds = [m for m in ms if isinstance(m, LinearFeed) and "infeed" in m.source.phase]
+    assert {round(m.axes["Z"], 9) for m in infeeds} == {-5.8, -2.9}
+    assert (ms[0].axes["X"], ms[0].axes["Y"]) == (0, 10)                     # 10 before (10, 10)
+
+
+def test_cycle72_section_of_the_program_incremental_and_on_the_centre_line(tmp_path):
+    ms = go(tmp_path, 'CYCLE72("PA:PE", 10, 0, 2, -1, 0, 0, 0, 500, 100, 2, 40, 1, 0, 800, 1, 0)\n'
+            "M30\nPA: G1 X5 Y5\nG91 X10\nG2 X10 Y0 I5 J0\nPE: Y-7")
+    cut = [(round(m.axes["X"], 9), round(m.axes["Y"], 9)) for m in ms
+           if isinstance(m, (LinearFeed, ArcFeed)) and m.source.phase == "finishing"]
+    assert cut == [(5, 5), (15, 5), (25, 5), (25, -2)]
+
+
+def test_cycle72_bad_contours(tmp_path):
+    assert err(tmp_path, 'CYCLE72("NOPE", 10, 0, 2, -1)') == ("cycle_parameter", 4)
+    assert err(tmp_path, 'CYCLE72("A:B", 10, 0, 2, -1)\nM30\nA: G1 X=R1 Y0\nB: X5') == ("cycle_parameter", 4)

@@ -215,3 +215,13 @@ def test_the_operate_cycles_fixture_verifies_clean_and_a_wrong_depth_is_caught(s
     code, report, _ = _verify(shop, "BAD3.MPF")
     errors = [f for f in report["findings"] if f["severity"] == "error"]
     assert code == 1 and {(f["kind"], f["line"]) for f in errors} == {("probe_collision", line)}
+
+
+def test_cycle72_mills_round_an_island_to_its_contour(tmp_path):
+    """A 30 × 20 island, its contour a section of the program run clockwise with G41 (the tool
+    outside), finished 4 deep in two levels: the island measures 30 × 20 below the top."""
+    mesh = cut(tmp_path, 'CYCLE72("ISL:ISL_E", 10, 0, 2, -4, 2, 0, 0, 500, 100, 112, 41, 1, 8, 800, 1, 8)\n'
+               "G0 Z50\nM30\nISL: G1 X15 Y15\nY35\nX45\nY15\nISL_E: X15")
+    island = inner(mesh, -2, (30, 25))
+    assert_box(island, [15, 15], [45, 35])
+    assert len(loops(mesh, -4.05)) == 1 and mesh.bounds[1][2] == pytest.approx(0, abs=FLAT)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from interpreters.sinumerik.cycles import (
     boring,
+    contour,
     engraving,
     facing,
     measuring,
@@ -39,7 +40,7 @@ _EXPAND = {
     "CYCLE84": boring.tap, "CYCLE840": boring.tap,
     "CYCLE85": boring.bore, "CYCLE86": boring.bore, "CYCLE87": boring.bore,
     "CYCLE88": boring.bore, "CYCLE89": boring.bore,
-    "CYCLE60": engraving.engrave,
+    "CYCLE60": engraving.engrave, "CYCLE72": contour.mill,
     "CYCLE976": measuring.measure, "CYCLE977": measuring.measure, "CYCLE978": measuring.measure,
     "CYCLE979": measuring.measure, "CYCLE998": measuring.measure,
     "CYCLE802": lambda ctx: positions.positions(ctx, modal),
