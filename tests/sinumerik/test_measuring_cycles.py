@@ -80,3 +80,6 @@ def test_measuring_errors(tmp_path):
     assert err("CYCLE978(0, , , 1, 0, 2, 1, 4, 1)") == ("cycle_parameter", 4)      # no such axis
     assert err("CYCLE977(109, , , 1, 20, , , 2)") == ("cycle_parameter", 4)
     assert err("CYCLE977(101, , , 1, 4, , , 2)") == ("cycle_parameter", 4)         # Ø4 hole, Ø6 stylus
+    old = run(tmp_path, HEAD + "_MVAR=100 _SETVAL=0\nCYCLE978\nM30\n", options=R3,   # the older form
+              _N_GUD5_DEF="DEF NCK INT _MVAR\nDEF NCK REAL _SETVAL\nM30\n")
+    assert (error_of(old).kind, error_of(old).line) == ("unsupported", 5)

@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 
 from interpreters.sinumerik.cycles.common import Context
+from vmach.errors import ProgramError
 from vmach.findings import info
 
 #: feeds of the cycle's positioning and measuring moves, mm/min (the control takes them from
@@ -95,6 +96,10 @@ class _Probe:
 def measure(ctx: Context) -> None:
     """The call's probe moves and nominal result."""
     c = ctx.call
+    if not c.given:
+        raise ProgramError("unsupported", f"{ctx.name} without values: the measuring cycles' older "
+                           "form (their GUD parameters _MVAR, _SETVAL … set before the call) is not "
+                           "simulated", ctx.src)
     probe = _Probe(ctx)
     name = ctx.name
     mvar = int(c["MVAR"])
