@@ -180,6 +180,22 @@ class LinearFeed(Command):
 
 
 @dataclass(frozen=True, slots=True)
+class ProbeMove(LinearFeed):
+    """A measuring move of a touch probe toward ``axes`` at ``feed``: the probe stops where
+    its stylus touches the part. The interpreter cannot know where that is (the control would
+    measure); it sends the whole measuring path, and verify stops the move at the contact on
+    the simulated stock (:mod:`vmach.checks.probing`). ``required``: no contact within the
+    path is an error (``probe_no_contact``), as a measuring cycle's alarm or G38.2/G38.4 are.
+    Every consumer that does not know probing sees a :class:`LinearFeed`."""
+
+    required: bool = True
+    kind: ClassVar[str] = "probe"
+
+    def fields(self) -> dict[str, Any]:
+        return {"axes": dict(self.axes), "feed": self.feed, "required": self.required}
+
+
+@dataclass(frozen=True, slots=True)
 class ArcFeed(Command):
     """Circular or helical feed move (G2/G3).
 

@@ -93,6 +93,10 @@ class Path:
         else:
             self.machine.sink.append(canon.LinearFeed(self.src, axes=axes, feed=f))
 
+    def probe(self, f: float, a=None, b=None, n=None) -> None:
+        """A measuring move (the probe stops at contact; verify finds where)."""
+        self.machine.sink.append(canon.ProbeMove(self.src, axes=self._target(a, b, n), feed=f))
+
     def arc(self, f: float, end, centre, clockwise: bool, n=None) -> None:
         """An arc (a helix when ``n`` is given) in the plane to ``end`` about ``centre``."""
         m = self.machine
@@ -166,6 +170,24 @@ def rounded_rect(centre, hx: float, hy: float, rc: float, angle: float, clockwis
             segs.append(("arc", p1, c))
     segs.append(("line", (hx, 0.0)))
     return _finish((hx, 0.0), segs, centre, angle, clockwise)
+
+
+def rounded_polygon(centre, n: int, apothem: float, rc: float, angle: float, clockwise: bool):
+    """A regular n-gon about ``centre`` whose flats lie ``apothem`` from it, the first flat's
+    outward normal at ``angle`` (radians), its corners rounded with radius rc (at most the
+    apothem): start (the middle of the first flat) and segments."""
+    rc = max(0.0, min(rc, apothem))
+    half = math.pi / n
+    dist = (apothem - rc) / math.cos(half)          # corner centres from the centre
+    normals = [(math.cos(2 * half * k), math.sin(2 * half * k)) for k in range(n + 1)]
+    segs = []                                       # counter-clockwise from the first flat
+    for k in range(n):
+        c = (dist * math.cos(2 * half * k + half), dist * math.sin(2 * half * k + half))
+        segs.append(("line", (c[0] + rc * normals[k][0], c[1] + rc * normals[k][1])))
+        if rc > TINY:
+            segs.append(("arc", (c[0] + rc * normals[k + 1][0], c[1] + rc * normals[k + 1][1]), c))
+    segs.append(("line", (apothem, 0.0)))
+    return _finish((apothem, 0.0), segs, centre, angle, clockwise)
 
 
 def circle(centre, radius: float, clockwise: bool):
