@@ -113,7 +113,8 @@ def p3g_parameters(d1: float, e1: float, fit: str = "g6") -> tuple[dict[int, flo
     return params, setup
 
 
-def p4c_parameters(d1: float, d2: float, e: float, fit: str = "g6") -> tuple[dict[int, float], dict[str, str]]:
+def p4c_parameters(d1: float, d2: float, e: float,
+                   fit: str = "g6") -> tuple[dict[int, float], dict[str, str]]:
     """The four-lobe program's R parameters and the case's setup for one P4C size ``d1xd2/e``.
 
     Rules (mm), as for P3G where they carry over: polygon length R62 interpolated over d1 as
