@@ -255,6 +255,16 @@ def _reaching(before, probes: dict, clearance: float) -> dict:
     return {key: v for key, v in probes.items() if key not in drop}
 
 
+def _sliver(local, cut, bound: float) -> bool:
+    """Is what ``cut`` takes from ``local`` a skin no thicker on average than ``bound`` mm
+    (2·volume / surface area of the chip)? A rapid that leaves a feed along the tool axis
+    meets the feed's last tool polygon with its own, turned otherwise: the crescent between
+    the two lies within the polygons' tolerance and is not material the rapid hits."""
+    chip = engine.intersect(local, cut)
+    a = engine.area(chip)
+    return a > 0.0 and 2.0 * engine.volume(chip) / a <= bound
+
+
 def _meets(stock: Stock, probe: list) -> bool:
     """Does any of the (convex) probe solids overlap the stock's blank at all? A vertex inside
     a convex blank says so at once (:meth:`Stock.blank_holds`); else the solids are met."""
@@ -276,6 +286,8 @@ def _cut_one(stock: Stock, local, done: list, tool, table, row: int, tips, ax, r
         cut = engine.union(cutters)
         after = engine.subtract(local, [cut])            # the rest; what the rapid removes:
         removed = engine.volume(local) - engine.volume(after)
+        if removed > tol.removal_volume and _sliver(local, cut, max(stock.chord, stock.cusp)):
+            removed = 0.0           # a skin thinner than the tool polygons' bound: their rounding
         if removed > tol.removal_volume:
             src = table.source(row)
             data = {"volume_mm3": round(removed, 4)}

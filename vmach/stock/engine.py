@@ -279,6 +279,11 @@ def volume(solid: Solid) -> float:
     return float(solid.volume())
 
 
+def area(solid: Solid) -> float:
+    """Surface area, mm²."""
+    return float(solid.surface_area())
+
+
 def centroid(solid: Solid) -> np.ndarray | None:
     """(3,) float, mm: the centre of mass of the solid's volume (None when empty or flat).
     Unlike its box's centre, slivers of no volume do not move it."""
