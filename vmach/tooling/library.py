@@ -6,7 +6,8 @@ Format (every length in mm, angles in degrees)::
     name = "GLOD D40"          # as the program calls it: T="GLOD D40"
     number = 1                 # T1 (optional)
     type = "face"              # flat | face | ball | bull | chamfer | drill
-                               # (turning | boring | grooving | threading: vmach.tooling.turning_toml)
+                               # (turning | boring | grooving | threading: vmach.tooling.turning_toml;
+                               # flywheel: vmach.tooling.flywheel)
     diameter = 40.0
     cutting_length = 5.5
     teeth = 4                  # flutes or inserts (optional)
@@ -36,6 +37,7 @@ from vmach.findings import Finding, error
 from vmach.machine.control import parse_toml, read_text
 from vmach.machine.tomlpos import KeyLines
 from vmach.tol import tol
+from vmach.tooling.flywheel import flywheel_tool
 from vmach.tooling.model import KINDS, Offset, Tool
 from vmach.tooling.turning import TURNING_KINDS, TurningTool
 from vmach.tooling.turning_toml import turning_tool
@@ -201,6 +203,8 @@ def _one(entry: Any, i: int, lines: KeyLines, bad) -> Tool | None:
         return None
     if entry.get("type") in TURNING_KINDS:
         return turning_tool(entry, where, lines, bad, _num, _offsets)
+    if entry.get("type") == "flywheel":       # polygonal turning (vmach.tooling.flywheel)
+        return flywheel_tool(entry, where, lines, bad, _num, _offsets)
     for k in entry:
         if k not in _KEYS:
             bad(where + (k,), f"unknown key {k!r}")
@@ -213,7 +217,8 @@ def _one(entry: Any, i: int, lines: KeyLines, bad) -> Tool | None:
         name = None
     kind = entry.get("type")
     if "type" in entry and kind not in KINDS:
-        bad(where + ("type",), f"type must be one of {', '.join(KINDS + TURNING_KINDS)}; got {kind!r}")
+        known = ", ".join(KINDS + TURNING_KINDS + ("flywheel",))
+        bad(where + ("type",), f"type must be one of {known}; got {kind!r}")
         kind = None
     number = entry.get("number")
     if number is not None and (isinstance(number, bool) or not isinstance(number, int) or number < 0):
