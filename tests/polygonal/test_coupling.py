@@ -32,10 +32,12 @@ def test_couple_at_two_to_one_with_an_offset_then_uncouple(tmp_path):
 
 
 def test_a_negative_ratio_turns_the_follower_the_other_way_and_coupofs_stops_it(tmp_path):
-    r = ok(tmp_path, HEAD + "COUPDEF(S2, S1, -3, 2)\nS600 M3\nCOUPON(S2, S1)\nCOUPOFS(S2, S1)\nM30\n", TURNMILL)
+    text = "COUPDEF(S2, S1, -3, 2)\nS600 M3\nCOUPON(S2, S1)\nCOUPOFS(S2, S1)\nM30\n"
+    r = ok(tmp_path, HEAD + text, TURNMILL)
     cp = [c for c in r.commands if isinstance(c, SpindleCoupling)]
     assert (cp[0].ratio, cp[0].offset, cp[0].mode) == (-1.5, None, "DV")     # defaults: FINE, DV
-    s2 = [(c.source.line, c.speed, c.direction) for c in r.commands if isinstance(c, Spindle) and c.spindle == 2]
+    s2 = [(c.source.line, c.speed, c.direction) for c in r.commands
+          if isinstance(c, Spindle) and c.spindle == 2]
     assert s2 == [(5, 900.0, "ccw"), (6, 0.0, "stop")]
 
 
@@ -44,7 +46,8 @@ def test_coupdef_keeps_what_it_does_not_give_and_coupres_forgets_the_pair(tmp_pa
                      "COUPOF(S2, S1, 0, 0)\nM30\n", TURNMILL)
     cp = [c for c in r.commands if isinstance(c, SpindleCoupling)][0]
     assert (cp.ratio, cp.mode) == (3.0, "AV")
-    e = error_of(run(tmp_path, HEAD + "COUPDEF(S2, S1, 2, 1)\nCOUPRES(S2, S1)\nCOUPON(S2, S1)\nM30\n", TURNMILL))
+    text = "COUPDEF(S2, S1, 2, 1)\nCOUPRES(S2, S1)\nCOUPON(S2, S1)\nM30\n"
+    e = error_of(run(tmp_path, HEAD + text, TURNMILL))
     assert (e.kind, e.line) == ("coupling_undefined", 5)
 
 

@@ -110,7 +110,8 @@ def test_the_section_follows_the_tip_curve_within_the_stated_tolerance(k, n, x):
 
 
 def test_the_nose_radius_rounds_the_tip_curve_and_keeps_the_flat_at_x():
-    tool = FlywheelTool(name="FW", inserts=3, radius=25.0, shape="T", inscribed=8.0, nose_radius=0.8, width=10.0)
+    tool = FlywheelTool(name="FW", inserts=3, radius=25.0, shape="T", inscribed=8.0, nose_radius=0.8,
+                        width=10.0)
     fl = flanks(cut(tool, 2, 12.0))
     assert len(fl) == 6 and all(f.radius == pytest.approx(12.0, abs=2 * SAG) for f in fl)
 
