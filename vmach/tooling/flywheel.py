@@ -121,11 +121,13 @@ class FlywheelTool:
 
 
 def _arc(r: float, a0: float, a1: float, chord: float) -> np.ndarray:
-    """(n, 2) points at radius r from angle a0 to a1 (rad), chords' sag within ``chord``."""
+    """(n, 2) points at radius r from angle a0 to a1 (rad), chords' sag within ``chord``, the
+    middle angle among them."""
     if r <= 0:
         return np.zeros((1, 2))
     step = 2.0 * math.acos(max(-1.0, 1.0 - chord / r))
-    n = max(2, math.ceil((a1 - a0) / max(step, 1e-6)) + 1)
+    n = max(3, math.ceil((a1 - a0) / max(step, 1e-6)) + 1)
+    n += 1 - n % 2                  # odd: the arc's middle (the insert's tip) is a vertex
     a = np.linspace(a0, a1, n)
     return r * np.column_stack([np.cos(a), np.sin(a)])
 
