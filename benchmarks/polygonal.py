@@ -32,7 +32,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from vmach.checks.flats import flanks  # noqa: E402
+from vmach.checks.flats import dense, flanks  # noqa: E402
 from vmach.stock import Stock  # noqa: E402
 from vmach.stock.strategies.polygonal import Coupling  # noqa: E402
 from vmach.tooling import load_tools  # noqa: E402
@@ -70,12 +70,10 @@ def deviation(contour: np.ndarray, flank) -> tuple[np.ndarray, np.ndarray]:
     from it (mm, + outward)."""
     mid = math.radians(flank.angle)
     half = math.atan2(flank.width / 2.0, flank.radius)
-    closed = np.vstack([contour, contour[:1]])
-    dense = np.concatenate([np.linspace(a, b, max(2, int(np.linalg.norm(b - a) / 0.05) + 1))[:-1]
-                            for a, b in zip(closed[:-1], closed[1:], strict=True)])
-    th = np.arctan2(dense[:, 1], dense[:, 0])
+    pts = dense(contour, 0.05)
+    th = np.arctan2(pts[:, 1], pts[:, 0])
     rel = (th - mid + math.pi) % (2 * math.pi) - math.pi
-    pts = dense[np.abs(rel) <= half]
+    pts = pts[np.abs(rel) <= half]
     u = np.array([-math.sin(mid), math.cos(mid)])
     n = np.array([math.cos(mid), math.sin(mid)])
     s = pts @ u

@@ -40,16 +40,20 @@ class Flank:
     width: float
 
 
+def dense(contour: np.ndarray, step: float) -> np.ndarray:
+    """(p, 2): the closed contour's points with points at most ``step`` mm apart along each edge."""
+    c = np.asarray(contour, dtype=float).reshape(-1, 2)
+    closed = np.vstack([c, c[:1]])
+    seg = np.diff(closed, axis=0)
+    n = np.maximum(1, np.ceil(np.linalg.norm(seg, axis=1) / step).astype(int))
+    t = np.concatenate([np.arange(k) / k for k in n])
+    return np.repeat(closed[:-1], n, axis=0) + np.repeat(seg, n, axis=0) * t[:, None]
+
+
 def radius_profile(contour: np.ndarray, samples: int = SAMPLES) -> tuple[np.ndarray, np.ndarray]:
     """(θ (s,) rad, r (s,) mm): the contour's distance from the origin on a uniform grid of
     angles (the contour star-shaped about the origin, as a turned part's section is)."""
-    c = np.asarray(contour, dtype=float).reshape(-1, 2)
-    closed = np.vstack([c, c[:1]])
-    # dense points along every edge, so that r(θ) follows straight edges between vertices
-    seg = np.diff(closed, axis=0)
-    n = np.maximum(1, np.ceil(np.linalg.norm(seg, axis=1) / 0.01).astype(int))
-    t = np.concatenate([np.arange(k) / k for k in n])
-    pts = np.repeat(closed[:-1], n, axis=0) + np.repeat(seg, n, axis=0) * t[:, None]
+    pts = dense(contour, 0.01)        # so that r(θ) follows straight edges between vertices
     th = np.arctan2(pts[:, 1], pts[:, 0])
     r = np.hypot(pts[:, 0], pts[:, 1])
     order = np.argsort(th)
@@ -125,11 +129,7 @@ def _merge(r: np.ndarray, keep: list, depth: float) -> list[int]:
 
 def _flank(contour: np.ndarray, t0: float, t1: float, at: float, radius: float) -> Flank:
     """The flank of the contour between the angles t0 < t1 (rad, t1 - t0 < 2π)."""
-    closed = np.vstack([contour, contour[:1]])
-    seg = np.diff(closed, axis=0)
-    n = np.maximum(1, np.ceil(np.linalg.norm(seg, axis=1) / 0.005).astype(int))
-    t = np.concatenate([np.arange(k) / k for k in n])
-    pts = np.repeat(closed[:-1], n, axis=0) + np.repeat(seg, n, axis=0) * t[:, None]
+    pts = dense(contour, 0.005)
     th = np.arctan2(pts[:, 1], pts[:, 0])
     rel = (th - t0) % (2.0 * math.pi)
     sel = pts[rel <= (t1 - t0)]
@@ -155,4 +155,4 @@ def _on_ray(pts: np.ndarray, e: np.ndarray) -> np.ndarray:
     return pts[int(np.argmin(off))]
 
 
-__all__ = ["Flank", "flanks", "radius_profile"]
+__all__ = ["Flank", "dense", "flanks", "radius_profile"]

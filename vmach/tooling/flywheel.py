@@ -34,6 +34,7 @@ import numpy as np
 from vmach.source import SourceRef
 from vmach.tooling.model import Offset
 from vmach.tooling.turning import SHAPES, hull2
+from vmach.tooling.turning_toml import name_number
 
 KEYS = {"name", "number", "type", "inserts", "radius", "shape", "inscribed", "nose_radius", "width",
         "body_diameter", "counter", "d", "comment"}
@@ -138,14 +139,9 @@ def flywheel_tool(entry: Mapping, where: tuple, lines, bad, num, offsets) -> Fly
     for k in entry:
         if k not in KEYS:
             bad(where + (k,), f"unknown key {k!r} for a flywheel tool")
-    name = entry.get("name")
-    if not isinstance(name, str) or not name.strip():
-        bad(where + ("name",) if "name" in entry else where, "name must be a non-empty string")
+    name, number = name_number(entry, where, bad)
+    if name is None:
         return None
-    number = entry.get("number")
-    if number is not None and (isinstance(number, bool) or not isinstance(number, int) or number < 0):
-        bad(where + ("number",), "number must be an integer >= 0")
-        number = None
     inserts = entry.get("inserts")
     if isinstance(inserts, bool) or not isinstance(inserts, int) or not 1 <= inserts <= 24:
         bad(where + ("inserts",), "inserts must be an integer 1..24 (the flywheel's insert count)")
@@ -177,7 +173,7 @@ def flywheel_tool(entry: Mapping, where: tuple, lines, bad, num, offsets) -> Fly
         bad(where + ("body_diameter",), "the body must lie inside the inserts (body_diameter/2 <= "
                                         "radius - inscribed)")
         return None
-    return FlywheelTool(name=name.strip(), inserts=int(inserts), radius=vals["radius"], number=number,
+    return FlywheelTool(name=name, inserts=int(inserts), radius=vals["radius"], number=number,
                         shape=shape, inscribed=vals["inscribed"], nose_radius=vals["nose_radius"],
                         width=vals["width"], body_diameter=vals["body_diameter"], counter=counter,
                         offsets=offsets(entry.get("d", {}), where, bad), source=lines.find(where))
