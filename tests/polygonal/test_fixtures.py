@@ -92,3 +92,18 @@ def test_the_cutters_body_in_the_bar_is_a_holder_collision(tmp_path):
     rep = verify(_program(tmp_path, body.replace("X52", "X60")),
                  VerifyOptions(images=False, stock="cylinder:d=70,l=40"))
     assert [f.kind for f in rep.findings if f.severity == "error"] == []
+
+
+def test_a_feed_too_coarse_for_the_edges_and_a_ratio_that_never_closes_are_said(tmp_path):
+    # 2:1 closes after one work turn: 12 mm per turn along Z is more than the 10 mm edges cover
+    rep = verify(_program(tmp_path, "COUPON(S2, S1)\nG0 X22 Z2\nG1 Z-20 F12\nG0 X90\nCOUPOF(S2, S1)\n"),
+                 VerifyOptions(images=False))
+    assert [(f.kind, f.line) for f in rep.findings if f.severity == "warning"] == [("polygon_feed_coarse", 9)]
+    # 2.0001:1 is no p/q with q <= 12
+    text = "COUPDEF(S2, S1, 2.0001, 1)\nCOUPON(S2, S1)\nG0 X22 Z2\nG1 Z-20 F0.1\nG0 X90\nCOUPOF(S2, S1)\n"
+    rep = verify(_program(tmp_path, text), VerifyOptions(images=False))
+    assert [(f.kind, f.line) for f in rep.findings if f.severity == "warning"] == [("coupling_ratio", 8)]
+    # 0.1 mm per turn at 3:2 (two work turns a period) is fine; 4/3 no warning either
+    text = "COUPDEF(S2, S1, 4, 3)\nCOUPON(S2, S1)\nG0 X22 Z2\nG1 Z-20 F0.1\nG0 X90\nCOUPOF(S2, S1)\n"
+    rep = verify(_program(tmp_path, text), VerifyOptions(images=False))
+    assert [f.kind for f in rep.findings if f.severity != "info"] == []

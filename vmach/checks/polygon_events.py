@@ -8,6 +8,8 @@ spindle is the machine's tool spindle, or any when the machine names none). Find
 - ``flywheel_uncoupled`` (warning): the cutter comes within the stock's radius while its spindle
   is not coupled — vmach cuts nothing there (a free-running flywheel would mill, which is not
   simulated) — once per path, at the first such row;
+- ``coupling_ratio`` and ``polygon_feed_coarse`` (warnings, :func:`_rates`): a ratio whose
+  pattern does not close within 12 work turns, an axial feed too coarse for the steady state;
 - with ``checks``: ``rapid_into_stock`` for a coupled rapid that removes material (more than
   a film of the section's tolerance), and
   ``holder_collision`` (part ``flywheel_body``) where the cutter's body — the disc inside its
@@ -16,13 +18,15 @@ spindle is the machine's tool spindle, or any when the machine names none). Find
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 
 from vmach import canon
 from vmach.findings import Finding, warning
-from vmach.motion.table import TRAVERSE
+from vmach.motion.table import FEED_MODES, TRAVERSE
 from vmach.stock import engine
-from vmach.stock.strategies.polygonal import SAG, Coupling, in_machine
+from vmach.stock.strategies.polygonal import MAX_TURNS, SAG, Coupling, in_machine
 from vmach.tol import tol
 
 
@@ -32,7 +36,7 @@ def couplings(table, spindle: int | None) -> list[Coupling | None]:
     at: dict[int, Coupling | None] = {}
     for i, c in enumerate(table.commands):
         if isinstance(c, canon.SpindleCoupling) and (spindle is None or c.following == spindle):
-            state = Coupling(c.ratio, c.offset or 0.0) if c.active else None
+            state = Coupling(c.ratio, c.offset or 0.0, c.leading) if c.active else None
             at[i] = state
     if not at:
         return [None] * len(table)
@@ -63,6 +67,7 @@ def polygon_path(stock, tool, table, model, q: np.ndarray, tips: np.ndarray, row
     state = couplings(table, getattr(model, "tool_spindle", None))
     kind = np.asarray(table.kind)
     warned = False
+    told: set[str] = set()
     i, n = 0, len(pts)
     while i < n - 1:
         row = int(rows[i + 1])
@@ -80,6 +85,7 @@ def polygon_path(stock, tool, table, model, q: np.ndarray, tips: np.ndarray, row
                     "its spindle is not coupled to the main spindle: vmach cuts nothing here (COUPON first)",
                     table.source(row), tool=tool.name))
         else:
+            _rates(tool, coupling, table, seg, seg_rows, told, res)
             cutters = stock.polygon_cutters(tool, coupling, seg, seg_rows)
             if checks and kind[row] == TRAVERSE and cutters:
                 _rapid(stock, cutters, table, row, res)
@@ -87,6 +93,52 @@ def polygon_path(stock, tool, table, model, q: np.ndarray, tips: np.ndarray, row
             if checks:
                 _body(stock, tool, seg, table, row, res)
         i = j
+
+
+def _rates(tool, coupling: Coupling, table, seg: np.ndarray, seg_rows: np.ndarray, told: set, res) -> None:
+    """Warnings, once per path each: ``coupling_ratio`` — the ratio is no fraction p/q of q <= 12
+    (the cut is the nearest one's), at its COUPON; ``polygon_feed_coarse`` — the axial feed per period of the
+    relative motion exceeds the edges' width (vmach cuts the steady-state section all along)."""
+    if "ratio" not in told and not coupling.exact():
+        told.add("ratio")
+        res.findings.append(warning(
+            "coupling_ratio", f"the coupling ratio {coupling.ratio:g} is no fraction p/q with q <= "
+            f"{MAX_TURNS}: the pattern creeps round the work from turn to turn; vmach cuts the pattern of "
+            f"{float(Fraction(abs(coupling.ratio)).limit_denominator(MAX_TURNS)):g}",
+            _coupled_at(table, int(seg_rows[-1])), ratio=coupling.ratio))
+    if "feed" in told:
+        return
+    for k in range(1, len(seg)):
+        row = int(seg_rows[k])
+        step = seg[k] - seg[k - 1]
+        length = float(np.linalg.norm(step))
+        if table.kind[row] == TRAVERSE or length == 0 or step[2] == 0:
+            continue
+        feed = float(table.feed[row])
+        if FEED_MODES[int(table.feed_mode[row])] == "per_minute":
+            col = table.spindles.index(coupling.leading) if coupling.leading in table.spindles else -1
+            speed = float(table.speed[row, col]) if col >= 0 else 0.0
+            feed = feed / speed if speed > 0 else np.inf
+        elif FEED_MODES[int(table.feed_mode[row])] != "per_rev":
+            continue
+        advance = feed * abs(step[2]) / length * coupling.turns()
+        if advance > tool.width:
+            told.add("feed")
+            res.findings.append(warning(
+                "polygon_feed_coarse", f"the axial feed of {advance:g} mm per period of the polygon "
+                f"({coupling.turns()} work turns) exceeds the inserts' edge width {tool.width:g} mm: not "
+                "every Z is cut all round; vmach cuts the full section all along", table.source(row),
+                advance_mm=round(advance, 4)))
+            return
+
+
+def _coupled_at(table, row: int):
+    """The source of the coupling command (COUPON) the row runs under."""
+    upto = int(table.command[row])
+    for c in reversed(table.commands[:upto]):
+        if isinstance(c, canon.SpindleCoupling) and c.active:
+            return c.source
+    return table.source(row)
 
 
 def _rapid(stock, cutters, table, row: int, res) -> None:

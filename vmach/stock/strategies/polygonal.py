@@ -63,15 +63,22 @@ class Coupling:
 
     ratio : tool spindle turns per main spindle turn (COUPDEF's numerator / denominator; the
         sign: the same sense of rotation when positive). offset : degrees, the tool spindle's
-        angle when the main spindle is at 0 (COUPON's angular offset).
+        angle when the main spindle is at 0 (COUPON's angular offset). leading : the main
+        spindle's number (whose speed turns a feed per minute into a feed per work turn).
     """
 
     ratio: float
     offset: float = 0.0
+    leading: int = 1
 
     def turns(self) -> int:
         """Work turns after which the relative motion repeats (q of the ratio p/q)."""
         return Fraction(abs(self.ratio)).limit_denominator(MAX_TURNS).denominator
+
+    def exact(self) -> bool:
+        """Is the ratio p/q with q <= MAX_TURNS (else the pattern creeps round from turn to
+        turn, and the cut is that of the nearest such fraction)?"""
+        return abs(float(Fraction(abs(self.ratio)).limit_denominator(MAX_TURNS)) - abs(self.ratio)) <= 1e-9
 
 
 def sense(tool, coupling: Coupling) -> float:
