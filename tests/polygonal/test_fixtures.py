@@ -107,3 +107,14 @@ def test_a_feed_too_coarse_for_the_edges_and_a_ratio_that_never_closes_are_said(
     text = "COUPDEF(S2, S1, 4, 3)\nCOUPON(S2, S1)\nG0 X22 Z2\nG1 Z-20 F0.1\nG0 X90\nCOUPOF(S2, S1)\n"
     rep = verify(_program(tmp_path, text), VerifyOptions(images=False))
     assert [f.kind for f in rep.findings if f.severity != "info"] == []
+
+
+def test_the_polygon_does_not_depend_on_where_c1_stood(tmp_path, parts):
+    # the coupling fixes the cutter to the spindle's zero, not to the last C1 position
+    for f in ("vmach.toml", "tools.toml"):
+        shutil.copy(FIX / f, tmp_path / f)
+    text = (FIX / "HEXAGON.MPF").read_text(encoding="utf-8").replace("N30 G0 X60 Z5", "N30 G0 X60 Z5 C1=40")
+    (tmp_path / "HEXC.MPF").write_text(text, encoding="utf-8")
+    rep = verify(tmp_path / "HEXC.MPF", VerifyOptions(images=False))
+    here = [round(f.angle, 2) for f in flanks(max(rep.part.section(-10.0), key=len))]
+    assert here == [round(f.angle, 2) for f in flanks(max(parts["HEXAGON"].part.section(-10.0), key=len))]
