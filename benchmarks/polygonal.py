@@ -15,6 +15,9 @@
    of curvature ρ = (X + 2R)² / X at the flat's middle, sagitta L² / 8ρ over the chord L).
 3. The turned hexagon's flatness against the cutting radius R (the same SW 24).
 
+With ``--converge``: 4. each shape's section against one made with a 100 times smaller sag
+(the stated accuracy of the strategy; slow: the fine sections unite ten times the hulls).
+
 With ``--images DIR``: a picture of each shape's section (docs/polygonal-turning.md), and a
 chart of the turned and milled flanks' deviation from their chords.
 """
@@ -32,8 +35,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from vmach.checks.flats import dense, flanks  # noqa: E402
-from vmach.stock import Stock  # noqa: E402
+from vmach.checks.flats import dense, flanks, radius_profile  # noqa: E402
+from vmach.stock import Stock, engine  # noqa: E402
+from vmach.stock.strategies import polygonal  # noqa: E402
 from vmach.stock.strategies.polygonal import Coupling  # noqa: E402
 from vmach.tooling import load_tools  # noqa: E402
 from vmach.tooling.flywheel import FlywheelTool  # noqa: E402
@@ -86,6 +90,7 @@ def deviation(contour: np.ndarray, flank) -> tuple[np.ndarray, np.ndarray]:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--images", type=Path, help="write the pictures into this directory")
+    ap.add_argument("--converge", action="store_true", help="measure the sections against 100x finer ones")
     args = ap.parse_args()
     lib = load_tools(LIB)
     shapes = {}
@@ -123,6 +128,19 @@ def main() -> int:
         length = float(np.mean([f.width for f in fl]))
         sagitta = length ** 2 * x / (8 * (x + 2 * radius) ** 2)
         print(f"{radius:>6.1f} {max(f.flatness for f in fl):>9.4f} {sagitta:>9.4f}")
+
+    if args.converge:
+        print("\n4. sections against 100x finer ones (sag 1e-5 mm): radial difference, mm (+: material left)")
+        for name, tname, k, x in FAMILIES:
+            tool = lib.lookup(tname)
+            r = []
+            for sag in (polygonal.SAG, polygonal.SAG / 100.0):
+                hulls = polygonal.section(tool, Coupling(k), complex(x + tool.radius, 0.0), None, 17.0, sag)
+                part = engine.subtract(engine.cylinder(16.0, -30.0, 0.0, 2048),
+                                       [engine.extruded(hulls, -31.0, 1.0, 17.0)])
+                r.append(radius_profile(max(engine.slice_polygons(part, Z), key=len), 72000)[1])
+            d = r[0] - r[1]
+            print(f"{name:<9} {d.min():+.5f} .. {d.max():+.5f}")
 
     if args.images:
         from vmach.report import render

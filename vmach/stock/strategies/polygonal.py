@@ -24,9 +24,13 @@ flank is an arc of that curve, not a line: its curvature at the flat's middle is
 |k'²R − A| / (A + k'R)² with k' = 1 − σk (convex while k'²R < A, concave beyond).
 
 Exactness: the placements are taken at angle steps Δα such that no point of an insert leaves
-the chord between its two placements by more than ``sag`` (bound: Δα² (|c| + k'²R) / 8 ≤ sag),
-and each step is cut as the hull of its two placements, which differs from the true sweep of
-the step by at most that sag; over ``q`` work turns for a ratio p/q (the curve closes). A move
+the chord between its two placements by more than ``SAG`` (bound: Δα² (|c| + k'²R) / 8 ≤ SAG),
+over ``q`` work turns for a ratio p/q (the curve closes), and each step is cut as the hull of
+its two placements. Every point of the true sweep lies within SAG of that hull; a point of the
+hull lies within SAG + Δθ·d/4 of the sweep (Δθ = |k'|Δα the insert's turn in the step, d the
+distance between the two insert points the hull bridges — at the flanks the tip's, a fraction
+of the nose radius). Measured: the four fixture shapes' sections lie within 1.3 µm of sections
+made with a 100 times smaller SAG, corners included (``benchmarks/polygonal.py --converge``). A move
 of P in X or Y takes, at each angle, the hull of the placements at both ends (the sweep over
 the interval of centre distances: exact, as the centre's motion is a translation); a move in
 both X and Z is cut in pieces of at most ``PIECE`` mm in X (the cut of a piece reaches its
@@ -47,7 +51,7 @@ import numpy as np
 from vmach.stock import engine
 from vmach.stock.jobs import Cutter, Polygonal, span
 
-#: mm: the largest distance the cut section lies from the true sweep of the inserts
+#: mm: the largest distance an insert point's path leaves the chord between two placements
 SAG = 0.001
 #: most work turns one period may take (a ratio p/q is taken as its best fraction of q <= this)
 MAX_TURNS = 12
@@ -119,6 +123,8 @@ def section(tool, coupling: Coupling, c0: complex, c1: complex | None = None, r_
     per angle step and insert — the hull of its placements — whose union is the section; only
     steps that come within ``r_max`` mm of the work's axis (the stock's reach)."""
     # one grid of angles for every centre that can reach the stock: sections of one path pair up
+    if min(abs(c0), abs(c1 if c1 is not None else c0)) - tool.reach() >= r_max:
+        return []                                        # the inserts stay beyond the stock
     far = max(abs(c0), abs(c1 if c1 is not None else c0))
     if np.isfinite(r_max):
         far = max(far, r_max + tool.reach())
@@ -126,8 +132,6 @@ def section(tool, coupling: Coupling, c0: complex, c1: complex | None = None, r_
         ends = [placements(tool, coupling, c0, chord, far)[0]]
     else:
         ends = [placements(tool, coupling, c, chord, far)[0] for c in (c0, c1)]
-    if min(abs(c0), abs(c1 if c1 is not None else c0)) - tool.reach() >= r_max:
-        return []                                        # the inserts stay beyond the stock
     near = np.zeros(ends[0].shape[:2], dtype=bool)
     for e in ends:
         near |= np.abs(e).min(axis=2) < r_max
