@@ -23,7 +23,7 @@ flats per insert — the known shapes come from this alone (docs/polygonal-turni
 flank is an arc of that curve, not a line: its curvature at the flat's middle is
 |k'²R − A| / (A + k'R)² with k' = 1 − σk (convex while k'²R < A, concave beyond).
 
-Exactness: the placements are taken at angle steps Δα such that no point of an insert leaves
+Error bound: the placements are taken at angle steps Δα such that no point of an insert leaves
 the chord between its two placements by more than ``SAG`` (bound: Δα² (|c| + k'²R) / 8 ≤ SAG),
 over ``q`` work turns for a ratio p/q (the curve closes), and each step is cut as the hull of
 its two placements. Every point of the true sweep lies within SAG of that hull; a point of the
