@@ -147,7 +147,7 @@ def flywheel_tool(entry: Mapping, where: tuple, lines, bad, num, offsets) -> Fly
         bad(where + ("inserts",), "inserts must be an integer 1..24 (the flywheel's insert count)")
         return None
     shape = entry.get("shape", "T")
-    if shape not in SHAPES:
+    if not isinstance(shape, str) or shape not in SHAPES:
         bad(where + ("shape",), f"shape must be an ISO insert letter ({', '.join(SHAPES)}); got {shape!r}")
         return None
     counter = entry.get("counter", False)
