@@ -180,6 +180,22 @@ class LinearFeed(Command):
 
 
 @dataclass(frozen=True, slots=True)
+class ProbeMove(LinearFeed):
+    """A measuring move of a touch probe toward ``axes`` at ``feed``: the probe stops where
+    its stylus touches the part. The interpreter cannot know where that is (the control would
+    measure); it sends the whole measuring path, and verify stops the move at the contact on
+    the simulated stock (:mod:`vmach.checks.probing`). ``required``: no contact within the
+    path is an error (``probe_no_contact``), as a measuring cycle's alarm or G38.2/G38.4 are.
+    Every consumer that does not know probing sees a :class:`LinearFeed`."""
+
+    required: bool = True
+    kind: ClassVar[str] = "probe"
+
+    def fields(self) -> dict[str, Any]:
+        return {"axes": dict(self.axes), "feed": self.feed, "required": self.required}
+
+
+@dataclass(frozen=True, slots=True)
 class ArcFeed(Command):
     """Circular or helical feed move (G2/G3).
 
@@ -257,14 +273,20 @@ class OrientedMove(Command):
         orientations) or ``"vector"`` (ORIVECT/ORIPLANE: the vector turns on the great circle
         between them); either way the tip moves on its programmed path.
     frame : None, or 12 numbers (origin x y z, then a row-major 3x3 linear part) when the
-        block leaves a geometry axis where it is under a rotated frame: then the geometry values
-        in ``axes`` are **program coordinates** (``nan`` where the tip stays), and the
-        workpiece point is ``origin + linear · program``.
+        block leaves a geometry axis where it is under a rotated frame, is a circle in a plane
+        the frame tilts (``plane``/``center`` then in program coordinates too), comes from a
+        cycle under CYCLE800 or TRAORI, or runs under TCARR: then the geometry values in
+        ``axes`` are **program coordinates** (``nan`` where the tip stays), and the workpiece
+        point is ``origin + linear · program``.
     prefer : None, or (rotary axis name, +1 or −1): of the two solutions take the one with the
         higher (+1) or lower (−1) value of that axis when both are inside the travel
         (CYCLE800's direction); None: the transformation's own rule.
     hold_axes : the linear axes keep their values while the rotary axes turn (CYCLE800's
         swivelling without tool follow-up: the tip moves with the part); ``motion`` traverse.
+    cone : None, or (3,) for ``interpolation`` ``"cone_cw"``/``"cone_ccw"`` (ORICONCW/CCW:
+        the vector turns about this cone axis clockwise/counter-clockwise as seen against it,
+        its angle to the axis going linearly from the start's to the end's) or ``"cone_io"``
+        (ORICONIO: the intermediate orientation the cone passes through), workpiece frame.
 
     The consumer samples the block within ``tol.angle_step`` of orientation and ``tol.chord``
     of path, solves each sample with the model's inverse kinematics and emits
@@ -284,6 +306,7 @@ class OrientedMove(Command):
     frame: tuple[float, ...] | None = None
     prefer: tuple[str, int] | None = None
     hold_axes: bool = False
+    cone: tuple[float, float, float] | None = None
     kind: ClassVar[str] = "oriented_move"
 
     def fields(self) -> dict[str, Any]:
@@ -293,6 +316,8 @@ class OrientedMove(Command):
         if self.motion == "arc":
             out.update(plane=list(self.plane), center=list(self.center), clockwise=self.clockwise,
                        turns=self.turns)
+        if self.cone is not None:
+            out["cone"] = list(self.cone)
         return out
 
 

@@ -20,6 +20,7 @@ import numpy as np
 import interpreters
 from vmach import __version__, coverage
 from vmach.canon import RunOptions, RunResult
+from vmach.checks import probing
 from vmach.checks.process import spindle_off_cuts, turning_rows, unknown_tools, zero_feeds
 from vmach.errors import InputError
 from vmach.files import input_file
@@ -318,8 +319,10 @@ def verify(program: str | Path, options: VerifyOptions) -> Report:
         from vmach.checks.envelope import in_envelope
 
         report.findings.extend(coverage.toolless_feeds(table, simulated))
+        report.findings.extend(probing.unchecked(table, library, simulated))
         report.findings.extend(spindle_off_cuts(table, model.tool_spindle, None if blank is None else partial(
-            in_envelope, table, model, library, _bounds(blank)), turning=turning_rows(table, library)))
+            in_envelope, table, model, library, _bounds(blank)), turning=turning_rows(table, library),
+            probe=probing.probe_rows(table, library)))
     coverage.say_skipped(report, spec, library, profile_plan is not None, stopped, bool(options.design))
     if (options.export or options.design) and not simulated and stopped is None:
         which = "export" if options.export else "design"

@@ -347,6 +347,14 @@ class Output:
                 self.flush()
             self.commands.append(new_feed(self.src, self.machine(p), feed))
 
+    def probe_command(self, p, feed: float, required: bool) -> None:
+        """A straight probe move toward ``p`` for vmach's stream (canon.ProbeMove: verify stops
+        it at contact with the stock)."""
+        if self.want:
+            if self.spindle_dirty:
+                self.flush()
+            self._c(vc.ProbeMove(self.src, axes=self.machine(p), feed=feed, required=required))
+
     def traverse_command(self, p) -> None:
         """A rapid move for vmach's stream only (a probe's back-off)."""
         if self.want:

@@ -52,7 +52,9 @@ class ThreadingMixin:
         """G38.2..G38.5 as rs274 runs them without a machine: the probe move goes to the
         programmed point and never trips (#5070 = 0, no error even for G38.2/G38.4, as
         rs274); #5061..#5066 become that point and the tool backs off 0.254 mm (0.01 in)
-        towards the start. vmach's stream gets the feed to the point and the back-off."""
+        towards the start. vmach's stream gets G38.2/G38.3 as a probe move to the point
+        (canon.ProbeMove, required for G38.2: verify stops it at contact with the stock, where
+        the machine stops; no back-off), G38.4/G38.5 as the feed and the back-off."""
         s = self.s
         if s.comp_side:
             raise NgcError("probe_comp")
@@ -74,9 +76,12 @@ class ThreadingMixin:
             step = 0.254 if s.metric else 0.01
             for i in range(3):
                 back[i] = end[i] + step * d[i] / length
-        out.straight_feed_command(end, self.feed_for_output(block))
-        if length:
-            out.traverse_command(back)
+        if motion in (382, 383):        # toward the part: verify stops it at contact
+            out.probe_command(end, self.feed_for_output(block), motion == 382)
+        else:                           # G38.4/G38.5 probe away from it: a plain feed
+            out.straight_feed_command(end, self.feed_for_output(block))
+            if length:
+                out.traverse_command(back)
         out.ppos = back
         out.simple("TURN_PROBE_OFF")
         s.motion = motion

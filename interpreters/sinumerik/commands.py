@@ -27,7 +27,7 @@ import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from interpreters.sinumerik import approach, coupling, sandbox, surface
+from interpreters.sinumerik import approach, coupling, orientation, sandbox, surface
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.cycles import NAMES as MILLING
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
@@ -281,6 +281,9 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
                                src.at(item.col), alarm=n)
 
         return alarm
+    if name == "TCARR":                      # the orientable tool carrier (toolcarrier.py)
+        f = fs[0]
+        return lambda v: orientation.carrier(it.machine, f(), src.at(item.col))
     if name == "LIMS":                       # the speed limit under G96 (interpreters/sinumerik/surface.py)
         f = fs[0]
         return lambda v: surface.lims(it.machine, _number(f(), name), src.at(item.col))

@@ -303,6 +303,28 @@ def successors(program: Program, i: int) -> list[int]:
     return nxt
 
 
+#: cycles whose first parameter may name a contour section "START:END" of the program
+CONTOUR_CYCLES = frozenset({"CYCLE72", "CYCLE62", "CYCLE63", "CYCLE64"})
+
+
+def _contour_sections(program: Program) -> list[tuple[int, int]]:
+    """(first, last) block indices of the sections a contour cycle's literal "START:END" names."""
+    out = []
+    for blk in program.blocks:
+        for it in blk.items:
+            args = getattr(it, "args", ())
+            if getattr(it, "name", None) not in CONTOUR_CYCLES or not args or args[0] is None:
+                continue
+            node = args[0]
+            if getattr(node, "op", None) != "str" or ":" not in str(node.value):
+                continue
+            a, b = (x.strip().upper() for x in str(node.value).split(":", 1))
+            starts, ends = program.labels.get(a, []), program.labels.get(b, [])
+            if starts and ends:
+                out.append((min(starts), max(ends)))
+    return out
+
+
 def _unreachable(program: Program) -> list[Finding]:
     blocks = program.blocks
     if not blocks:
@@ -315,6 +337,9 @@ def _unreachable(program: Program) -> list[Finding]:
             continue
         seen[i] = True
         todo.extend(j for j in successors(program, i) if not seen[j])
+    for first, last in _contour_sections(program):     # read by a contour cycle, not run
+        for k in range(first, last + 1):
+            seen[k] = True
     out: list[Finding] = []
     i = 0
     while i < len(blocks):

@@ -1,5 +1,5 @@
-"""The P3G family's cases: sizing rules against the fixture's hand-made sizes, the per-case
-program and setup, and clear usage errors."""
+"""The P3G and P4C families' cases: sizing rules against the fixture's hand-made sizes, the
+per-case program and setup, a P4C size verified end to end, and clear usage errors."""
 
 from __future__ import annotations
 
@@ -9,7 +9,15 @@ from pathlib import Path
 
 import pytest
 
-from vmach.batch.family import INSERT_DEPTH, family_cases, materialise, p3g_parameters, p3g_table, rewritten
+from vmach.batch.family import (
+    INSERT_DEPTH,
+    family_cases,
+    materialise,
+    p3g_parameters,
+    p3g_table,
+    p4c_parameters,
+    rewritten,
+)
 from vmach.errors import InputError
 
 FIX = Path(__file__).resolve().parents[2] / "fixtures" / "polygon_shaft"
@@ -90,3 +98,50 @@ def test_commands_refuse_bad_usage_before_any_work(argv, tmp_path, capsys):
     out = tmp_path / "out"
     assert main([a.format(fix=FIX) for a in argv] + ["--out", str(out)]) == 2
     assert "error[usage]" in capsys.readouterr().err and not out.exists()
+
+
+def test_p4c_rules_make_the_fixture_program():
+    """POLY4C (P4C 35x30/5) and its setup in vmach.toml were written by hand: the rules agree."""
+    params, setup = p4c_parameters(35, 30, 5)
+    hand = r_values(FIX / "POLY4C.MPF")
+    assert {k: params[k] for k in hand} == hand
+    own = tomllib.loads((FIX / "vmach.toml").read_text())["programs"]["POLY4C"]
+    assert setup["profile"] == own["profile"] == "P4C:35x30/5"
+    assert setup["stock"] == own["stock"] == "cylinder:d=34.983,l=88"
+    assert setup["profile_z"] == own["profile_z"]
+
+
+def test_p4c_cases_come_from_designations():
+    a, b = family_cases(FIX / "POLY4C.MPF", "P4C", "35x30, 40x34/5.5")
+    assert (a.name, a.label, a.params[57]) == ("P4C_35x30", "35x30/5", 5.0)   # e = d2/6 when not given
+    assert (b.name, b.params[56], b.params[58], b.params[57]) == ("P4C_40x34", 40.0, 34.0, 5.5)
+    assert b.setup["profile"] == "P4C:40x34/5.5"
+    for bad in ("35", "30x35", "all"):
+        with pytest.raises(InputError) as exc:
+            family_cases(FIX / "POLY4C.MPF", "P4C", bad)
+        assert exc.value.exit_code == 2
+    with pytest.raises(InputError) as exc:              # a flank wider than every finishing face
+        p4c_parameters(60, 40, 40 / 6)
+    assert exc.value.kind == "family"
+
+
+@pytest.mark.slow
+def test_a_p4c_size_verifies_within_its_band(tmp_path):
+    """P4C 16x14 made from the four-lobe program by the rules: the part's profile lies in the
+    g6 band of d1 = 16 at every station (the bar's circle included), and no error."""
+    import json
+
+    from vmach.cli import main
+
+    case = family_cases(FIX / "POLY4C.MPF", "P4C", "16x14")[0]
+    prog = materialise(case, tmp_path / case.name)
+    out = tmp_path / "out"
+    code = main(["verify", str(prog), "--out", str(out), "--no-images", "--quiet"])
+    report = json.loads((out / "report.json").read_text())
+    assert code == 0 or all(f["severity"] != "error" for f in report["findings"])
+    prof = report["profile"]
+    assert prof["type"] == "P4C" and prof["pass"] is True, prof
+    lo, hi = prof["tolerance_mm"]
+    assert len(prof["stations"]) >= 2
+    for st in prof["stations"]:
+        assert st["found"] and lo <= st["min_deviation_mm"] and st["max_deviation_mm"] <= hi, st

@@ -7,6 +7,7 @@ circle and ORIAXES linear in the axes within tol.angle_step; the pole; flips; TR
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -153,7 +154,7 @@ def test_errors_at_their_lines(tmp_path):
     assert (f.kind, f.line) == ("syntax", 2)
     f = error_of(run(tmp_path, "TRAORI\nM30\n", load_model("turnmill").control))
     assert (f.kind, f.line) == ("unsupported", 1)
-    f = error_of(run(tmp_path, "ORIVIRT1\nM30\n", s5d))
+    f = error_of(run(tmp_path, "ORICURVE\nM30\n", s5d))
     assert (f.kind, f.line) == ("unsupported", 1)
 
 
@@ -233,3 +234,152 @@ def test_a_vector_out_of_reach_is_unreachable_at_its_line(tmp_path):
     assert not [c for c in cmds if isinstance(c, MOTIONS) and c.source.line == 3]
     q, pose = rows(m, cmds, 4)
     assert np.abs(pose.axis[-1] - unit((0.2, 0, 1))).max() < 1e-9
+
+
+def test_hybrid_drives_follow_under_traori(tmp_path, capsys):
+    """On hybrid5 (p1..p3 carry the platform) ``vmach run --format json`` gives every TRAORI
+    block the drive values of its solved end pose, as for an axis program: the drives' inverse
+    of the virtual axes that put the tip and vector where the block says."""
+    import json
+
+    from vmach.cli import main
+
+    m = load_model("hybrid5")
+    body = ("TRAORI\nG1 X5 Y-3 Z12 A3=0.3 B3=0.2 C3=0.9 F500\nG1 X-8 Y4 Z6 A3=-0.2 B3=0.1 C3=1\n"
+            "TRAFOOF\nG0 Z60\nM30\n")
+    prog = tmp_path / "T.MPF"
+    prog.write_text(body)
+    assert main(["run", str(prog), "--machine", "hybrid5", "--format", "json"]) == 0
+    lines = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    cmds, _ = resolve(run(tmp_path, body, m.control).commands, m)
+    for line in (2, 3):
+        (row,) = [r for r in lines if r["kind"] == "oriented_move" and r["line"] == line]
+        q, pose = rows(m, cmds, line)
+        assert set(row["drives"]) == {"p1", "p2", "p3"}
+        drives, ok = m.drive_values(q[-1:])
+        assert ok[0]
+        for d in ("p1", "p2", "p3"):
+            assert row["drives"][d] == pytest.approx(float(drives[d][0]), abs=1e-9)
+        assert np.abs(pose.tip[-1] - [(5, -3, 12), (-8, 4, 6)][line - 2]).max() < 1e-9
+    after = [r for r in lines if r["kind"] != "oriented_move" and r["line"] == 5][-1]
+    assert after["drives"]["p1"] is not None        # the position TRAFOOF left, known again
+
+
+@pytest.mark.parametrize("model", ["s5d", "mill5ac"])
+def test_orirpy2_and_the_virtual_orientation_axes(tmp_path, model):
+    """G group 50 of the manual: ORIRPY2 is the RPY angles in the rotation sequence Z, Y, X
+    (C2 about Z first, then B2 about Y, then A2 about X, fixed axes: Rx(A2)·Ry(B2)·Rz(C2)·e_z);
+    ORIVIRT1/ORIVIRT2 turn about the axes MD21120/MD21130 $MC_ORIAX_TURN_TAB_1/2 name in
+    order (1 X, 2 Y, 3 Z; the model's data, here TAB_2 = Z, X, Z: the Euler angles of
+    virtual axes), default X, Y, Z (= ORIRPY). FK of the solution = the vector to 1e-9."""
+    m = load_model(model)
+    md = dict(m.control.machine_data)
+    md["$MC_ORIAX_TURN_TAB_2"] = [3, 1, 3]
+    control = replace(m.control, machine_data=md)
+    body = ("TRAORI\nORIRPY2\nG1 X0 Y0 Z10 A2=20 B2=-35 C2=50 F500\nORIVIRT1\nG1 A2=-25 B2=15 C2=40\n"
+            "ORIVIRT2\nG1 A2=30 B2=40 C2=10\nTRAFOOF\nM30\n")
+    r = run(tmp_path, body, control)
+    assert r.completed, [f.render() for f in r.findings]
+    cmds, found = resolve(r.commands, m)
+    assert found == []
+    ez = np.array([0.0, 0.0, 1.0])
+    rpy2 = Rotation.from_euler("XYZ", [20, -35, 50], degrees=True).apply(ez)    # intrinsic X Y Z
+    virt1 = Rotation.from_euler("xyz", [-25, 15, 40], degrees=True).apply(ez)   # fixed X, Y, Z
+    virt2 = Rotation.from_euler("zxz", [30, 40, 10], degrees=True).apply(ez)    # fixed Z, X, Z
+    for line, want in ((3, rpy2), (5, virt1), (7, virt2)):
+        _, pose = rows(m, cmds, line)
+        assert np.abs(pose.axis[-1] - want).max() < 1e-9, line
+        assert np.abs(pose.tip[-1] - (0, 0, 10)).max() < 1e-9
+
+
+def cone_rows(tmp_path, model, mode, words):
+    m, cmds, found = solved(tmp_path, model, "TRAORI\nORIVECT\nG1 X0 Y0 Z10 A3=1 B3=0 C3=1 F500\n"
+                            f"{mode}\nG1 X10 {words} A3=0 B3=1 C3=1\nTRAFOOF\n")
+    assert found == []
+    q, pose = rows(m, cmds, 5)
+    return pose
+
+
+@pytest.mark.parametrize("model", ["s5d", "mill5ac", "h5d"])
+def test_cone_interpolation_oriconccw_oriconcw_oriconio(tmp_path, model):
+    """Interpolation on a cone's surface (G group 51): from 45° toward +X to 45° toward +Y on
+    the cone about Z (A6=0 B6=0 C6=1) — ORICONCCW the quarter turn, ORICONCW the other three
+    quarters; ORICONIO through the intermediate orientation A7 B7 C7 (toward −X: three
+    quarters again). Every row: 45° from the axis; the azimuth monotonic at most
+    tol.angle_step apart; FK of the end = the programmed vector and tip to 1e-9."""
+    ez = np.array([0.0, 0.0, 1.0])
+    for mode, words, sweep in (("ORICONCCW", "A6=0 B6=0 C6=1", 90.0),
+                               ("ORICONCW", "A6=0 B6=0 C6=1", -270.0),
+                               ("ORICONIO", "A7=-1 B7=0 C7=1", -270.0)):
+        pose = cone_rows(tmp_path, model, mode, words)
+        assert np.abs(pose.axis @ ez - math.cos(math.radians(45))).max() < 1e-9, mode
+        az = np.degrees(np.unwrap(np.arctan2(pose.axis[:, 1], pose.axis[:, 0])))
+        steps = np.diff(az)
+        assert (np.sign(steps) == np.sign(sweep)).all(), mode
+        assert az[-1] - az[0] + steps[0] == pytest.approx(sweep, abs=tol.angle_step)
+        turned = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", pose.axis[1:], pose.axis[:-1]), -1, 1)))
+        assert turned.max() <= tol.angle_step * (1 + 1e-9), mode
+        assert np.abs(pose.axis[-1] - unit((0, 1, 1))).max() < 1e-9
+        assert np.abs(pose.tip[-1] - (10, 0, 10)).max() < 1e-9
+
+
+@pytest.mark.parametrize("model", ["s5d", "mill5ac"])
+def test_oriconto_goes_on_tangentially(tmp_path, model):
+    """ORICONTO: the cone leaves the start orientation in the direction the orientation turned
+    at the end of the block before. After ORIVECT from Z to 45° toward +X (a turn in the X/Z
+    plane, ending toward +X), ORICONTO to 45° toward +Y: the first step leaves along +X (the
+    tangent), the circle through both on the unit sphere, FK of the end to 1e-9."""
+    m, cmds, found = solved(tmp_path, model, "TRAORI\nORIVECT\nG1 X0 Y0 Z10 A3=0 B3=0 C3=1 F500\n"
+                            "G1 A3=1 B3=0 C3=1\nORICONTO\nG1 X5 A3=0 B3=1 C3=1\nTRAFOOF\n")
+    assert found == []
+    _, pose = rows(m, cmds, 6)
+    a = pose.axis
+    first = a[0] - unit((1, 0, 1))
+    assert first[0] > 0 and abs(first[1]) > 0            # leaves on, then off, the X/Z plane
+    assert np.dot(unit(first), unit((1, 0, -1))) > 0.99  # along the previous turn's tangent
+    centre = a.mean(axis=0)                               # one circle: a plane cuts the sphere
+    normal = np.linalg.svd(a - centre)[2][-1]
+    assert np.abs((a - centre) @ normal).max() < 1e-9
+    assert np.abs(a[-1] - unit((0, 1, 1))).max() < 1e-9
+    assert np.abs(pose.tip[-1] - (5, 0, 10)).max() < 1e-9
+    _, _, found = solved(tmp_path, model, "TRAORI\nG0 X0 Y0 Z10 A3=0 B3=0 C3=1\nORICONTO\n"
+                         "G1 A3=0 B3=1 C3=1 F100\nTRAFOOF\n")
+    assert [(x.kind, x.line) for x in found] == [("invalid_value", 4)]
+
+
+@pytest.mark.parametrize("model", ["s5d", "mill5ac", "h5d"])
+def test_lead_and_tilt_relative_to_the_path(tmp_path, model):
+    """LEAD: the surface normal (Z) turned toward the path tangent; TILT: then about the tangent
+    (the manual's definitions); modal; under ORIPATH every path block takes its orientation from
+    its own tangent (an arc's at its end), under ORIVECT only a block that programs them."""
+    body = ("TRAORI\nG1 X0 Y0 Z10 A3=0 B3=0 C3=1 F500\nORIPATH\nG1 X20 LEAD=10\nG1 Y20\n"
+            "G3 X0 Y40 I-20 J0\nG1 X-20 TILT=20\nORIVECT\nG1 X-30\nG1 Y30 LEAD=0 TILT=0\n"
+            "G1 Y20 A5=1 B5=0 C5=1 LEAD=15\nTRAFOOF\n")
+    m, cmds, found = solved(tmp_path, model, body)
+    assert found == []
+    s10, c10 = math.sin(math.radians(10)), math.cos(math.radians(10))
+    tilted = Rotation.from_rotvec(np.radians(20) * np.array([-1, 0, 0])).apply((-s10, 0, c10))
+    n5 = unit((1, 0, 1))
+    lead15 = math.cos(math.radians(15)) * n5 + math.sin(math.radians(15)) * np.array([0, -1, 0])
+    for line, want, tip in ((4, (s10, 0, c10), (20, 0, 10)), (5, (0, s10, c10), (20, 20, 10)),
+                            (6, (-s10, 0, c10), (0, 40, 10)), (7, tilted, (-20, 40, 10)),
+                            (9, tilted, (-30, 40, 10)), (10, (0, 0, 1), (-30, 30, 10)),
+                            (11, lead15, (-30, 20, 10))):
+        _, pose = rows(m, cmds, line)
+        assert np.abs(pose.axis[-1] - want).max() < 1e-9, line
+        assert np.abs(pose.tip[-1] - tip).max() < 1e-9, line
+    s5d = load_model("s5d").control
+    f = error_of(run(tmp_path, "TRAORI\nG1 X0 Y0 Z10 LEAD=5 F100\nM30\n", s5d))
+    assert (f.kind, f.line) == ("unsupported", 2)           # its start only the machine knows
+    f = error_of(run(tmp_path, "TRAORI\nG1 X0 Y0 Z10 F100\nG1 X5 LEAD=5 A3=0 B3=0 C3=1\nM30\n", s5d))
+    assert (f.kind, f.line) == ("syntax", 3)
+    f = error_of(run(tmp_path, "TRAORI\nG1 X0 Y0 Z10 F100\nG1 X5 A4=0 B4=0 C4=1 LEAD=5\nM30\n", s5d))
+    assert (f.kind, f.line) == ("unsupported", 3)
+
+
+def test_oripaths_says_what_it_does_not_smooth(tmp_path):
+    r = run(tmp_path, "TRAORI\nORIPATHS\nG1 X0 Y0 Z10 A3=0 B3=0 C3=1 F100\nG1 X10\nORIPATHS\nTRAFOOF\nM30\n",
+            load_model("s5d").control)
+    assert r.completed
+    assert [(f.kind, f.severity, f.line) for f in r.findings if f.kind == "orientation_simplified"] == [
+        ("orientation_simplified", "info", 2)]

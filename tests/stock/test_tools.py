@@ -13,8 +13,10 @@ from vmach.tooling.solid import convex_runs, polygon_deviation, segments_for, st
 
 
 def test_fixture_library_has_the_three_cutters_by_name_and_number(library):
-    # the three cutters of domain §4, and the larger finishing cutter of the biggest sizes
-    assert [t.name for t in library.tools] == ["GLOD D40", "GLOD D16_15", "GLOD D25", "GLOD D32"]
+    # the three cutters of domain §4, the larger finishing cutter of the biggest sizes, and the
+    # turning insert TURNED50 turns the bar with first (#34)
+    assert [t.name for t in library.tools] == ["GLOD D40", "GLOD D16_15", "GLOD D25", "GLOD D32",
+                                               "CNMG120408"]
     d40 = library.lookup("GLOD D40")
     assert (d40.kind, d40.diameter, d40.cutting_length, d40.teeth) == ("face", 40.0, 5.5, 4)
     assert library.lookup("glod d16_15").kind == "chamfer"

@@ -175,3 +175,53 @@ def test_a_mistake_in_a_cycle_is_caught_at_its_line(shop, line, old, new, kind, 
     assert code == 1 and errors
     assert {(f["kind"], f["line"]) for f in errors} == {(kind, line)}
     assert any(f["phase"].startswith(phase) for f in errors)
+
+
+def test_cycle79_hexagon_across_flats_and_corners(tmp_path):
+    """A hexagon 24 across flats, R2 corners, 4 high at (30, 25) from a Ø40 blank: the flats
+    12 from the centre along X, the corners (12 − 2)/cos 30° + 2 from it along Y."""
+    mesh = cut(tmp_path, "CYCLE79(10, 0, 2, -4, 30, 25, 40, 0, 6, 24, 2, 2, 0, 0, 600, 200, 0, 1)")
+    hexagon = inner(mesh, -2, (30, 25))
+    corner = (12 - 2) / np.cos(np.pi / 6) + 2
+    assert_box(hexagon, [18, 25 - corner], [42, 25 + corner])
+    assert mesh.bounds[0][2] == pytest.approx(-12) and len(loops(mesh, -4.05)) == 1
+
+
+@pytest.mark.slow
+def test_the_operate_cycles_fixture_verifies_clean_and_a_wrong_depth_is_caught(shop):
+    """fixtures/cycles/SHOP2.MPF: CYCLE79, CYCLE802 with MCALL CYCLE81, CYCLE60, CYCLE977 and
+    CYCLE978 (a probe measuring the hexagon and the block's side) verify clean;
+    the hexagon's flats are 20 from its centre; its depth typed −25 for −6 runs the Ø12 end
+    mill's shank (above its 20 mm flutes) into the block at the CYCLE79 line."""
+    code, report, part = _verify(shop, "SHOP2.MPF")
+    assert code == 0 and [f for f in report["findings"] if f["severity"] != "info"] == []
+    mesh = trimesh.load(part)
+    hexagon = inner(mesh, -3, (30, 40))
+    assert [hexagon[:, 0].min(), hexagon[:, 0].max()] == pytest.approx([10, 50], abs=SIDE)
+    for x, y in ((75, 12), (88, 25), (75, 38)):                             # CYCLE802's holes
+        hole = inner(mesh, -7, (x, y))                                      # above the point
+        assert np.abs(np.hypot(hole[:, 0] - x, hole[:, 1] - y) - 3.4).max() < SIDE
+    assert mesh.bounds[1][2] == pytest.approx(1, abs=FLAT)
+    assert len(loops(mesh, 0.8)) > len(loops(mesh, 0.6))                     # the text, 0.3 deep
+    text = (shop / "SHOP2.MPF").read_text()
+    line = text[:text.index("N50 CYCLE79")].count("\n") + 1
+    (shop / "BAD2.MPF").write_text(text.replace("CYCLE79(10, 1, 2, -6,", "CYCLE79(10, 1, 2, -25,"))
+    code, report, _ = _verify(shop, "BAD2.MPF")
+    errors = [f for f in report["findings"] if f["severity"] == "error"]
+    assert code == 1 and {(f["kind"], f["line"]) for f in errors} == {("holder_collision", line)}
+    # the hexagon measured as a web 30 wide: the probe goes down onto its flat, at CYCLE977
+    line = text[:text.index("N180 CYCLE977")].count("\n") + 1
+    (shop / "BAD3.MPF").write_text(text.replace("CYCLE977(104, , , 1, 40,", "CYCLE977(104, , , 1, 30,"))
+    code, report, _ = _verify(shop, "BAD3.MPF")
+    errors = [f for f in report["findings"] if f["severity"] == "error"]
+    assert code == 1 and {(f["kind"], f["line"]) for f in errors} == {("probe_collision", line)}
+
+
+def test_cycle72_mills_round_an_island_to_its_contour(tmp_path):
+    """A 30 × 20 island, its contour a section of the program run clockwise with G41 (the tool
+    outside), finished 4 deep in two levels: the island measures 30 × 20 below the top."""
+    mesh = cut(tmp_path, 'CYCLE72("ISL:ISL_E", 10, 0, 2, -4, 2, 0, 0, 500, 100, 112, 41, 1, 8, 800, 1, 8)\n'
+               "G0 Z50\nM30\nISL: G1 X15 Y15\nY35\nX45\nY15\nISL_E: X15")
+    island = inner(mesh, -2, (30, 25))
+    assert_box(island, [15, 15], [45, 35])
+    assert len(loops(mesh, -4.05)) == 1 and mesh.bounds[1][2] == pytest.approx(0, abs=FLAT)

@@ -8,7 +8,9 @@ again by hand (``vmach verify CASE/POLY.MPF``) and a remote worker needs nothing
 
 The P3G family (DIN 32711, ``vmach/checks/data/din32711.csv``) sizes the polygon-shaft program
 by rules stated in :func:`p3g_parameters` (docs/batch.md), reproducing the fixture's POLY14,
-POLY50 and POLY100 where they apply.
+POLY50 and POLY100 where they apply. The P4C family (DIN 32712) sizes the four-lobe program
+(fixtures/polygon_shaft/POLY4C.MPF) by :func:`p4c_parameters`; vmach holds no DIN 32712 size
+table, so its sizes are given as designations ``d1xd2`` or ``d1xd2/e``.
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from vmach.errors import InputError
 from vmach.output import atomic_writer, make_dir
 
 #: families a parametric program can be run over (name -> the profile kind it makes)
-FAMILIES = ("P3G",)
+FAMILIES = ("P3G", "P4C")
 
 #: polygon length R62 by d1: POLY14, POLY50 and POLY100 of the fixture, interpolated between
 LENGTH_D1 = (14.0, 50.0, 100.0)
@@ -111,13 +113,67 @@ def p3g_parameters(d1: float, e1: float, fit: str = "g6") -> tuple[dict[int, flo
     return params, setup
 
 
+def p4c_parameters(d1: float, d2: float, e: float,
+                   fit: str = "g6") -> tuple[dict[int, float], dict[str, str]]:
+    """The four-lobe program's R parameters and the case's setup for one P4C size ``d1xd2/e``.
+
+    Rules (mm), as for P3G where they carry over: polygon length R62 interpolated over d1 as
+    for P3G; blank: the bar turned to d1 in the middle of its g6 band (its circle truncates the
+    corners, so it is part of the profile), R62 + 60 long; finishing cutter radius R64 the
+    smaller of 12.5 / 16 whose face covers the flank's chord, sqrt(d1²/4 − d2²/4), with 0.5 to
+    spare (the program's TOO_SMALL test); roughing passes R66 (at least 3) so that the first
+    cuts at most 5 mm into the bar; flank offset R59 the middle of the g6 band on d1; profile
+    stations where the finishing cutter's round face spans the flank's whole chord (the program
+    does not face the shoulder, so the flank's ends next to it are left to the roughing cutter).
+    """
+    from vmach.checks.iso286 import limits
+
+    chord = math.sqrt(max(d1 * d1 / 4 - d2 * d2 / 4, 0.0))
+    r64 = next((r for r in FIN_RADII if chord < r - 0.5), None)
+    if r64 is None:
+        raise InputError(f"P4C {d1:g}x{d2:g}: the flank's chord {chord:.3g} mm either side exceeds every "
+                         "finishing cutter's face", kind="family")
+    length = float(round(np.interp(d1, LENGTH_D1, LENGTH_MM)))
+    needed = math.ceil(d1 / 2 - d2 / 2 + 0.85 - (INSERT_DEPTH - DEPTH_MARGIN) - 1e-9)
+    lim = limits(fit, d1)
+    r59 = round((lim.lower + lim.upper) / 4, 6)
+    params = {56: d1, 57: e, 58: d2, 62: length, 63: 0.0, 64: r64, 65: 0.01, 66: float(max(3, needed)),
+              67: 20.0, 59: r59}
+    # the profile is checked where the finishing face spans the whole flank: at least m mm from
+    # the shaft's end and the shoulder, m the depth of the round face's chord at the flank's width
+    m = max(4, math.ceil(r64 - math.sqrt(r64 * r64 - chord * chord)) + 1)
+    z = f"{-(length - m):g}:{-m}"
+    setup = {"stock": f"cylinder:d={d1 + 2 * r59:g},l={length + 60:g}", "profile": f"P4C:{d1:g}x{d2:g}/{e:g}",
+             "profile_z": z}
+    return params, setup
+
+
+def p4c_cases(program: Path, sizes: str) -> list[Case]:
+    """The P4C cases of ``program``: ``sizes`` a comma list of designations d1xd2[/e]."""
+    from vmach.checks.polygon import parse_profile
+
+    if sizes.strip().lower() == "all":
+        raise InputError("--family P4C --sizes all: vmach holds no DIN 32712 size table; give the sizes "
+                         "as designations, e.g. --sizes 35x30,40x34/5.5", kind="usage")
+    cases = []
+    for tok in sizes.split(","):
+        try:
+            poly = parse_profile(f"P4C:{tok.strip()}")
+        except InputError as exc:
+            raise InputError(f"--sizes {tok.strip()}: {exc.message}", kind="usage") from None
+        d2 = float(poly.d2_flats or 0.0)
+        params, setup = p4c_parameters(poly.d1, d2, poly.e)
+        name = f"P4C_{poly.d1:g}x{d2:g}".replace(".", "_")
+        cases.append(Case(name, program, params, setup, f"{poly.d1:g}x{d2:g}/{poly.e:g}"))
+    return cases
+
+
 def family_cases(program: Path, family: str, sizes: str) -> list[Case]:
-    """The cases of ``program`` over ``family``'s sizes: ``all`` or a comma list of d1."""
+    """The cases of ``program`` over ``family``'s sizes: ``all`` or a comma list of d1 (P3G),
+    a comma list of designations d1xd2[/e] (P4C)."""
     fam = family.upper()
     if fam == "P4C":
-        raise InputError("--family P4C: vmach has no DIN 32712 size table (vmach/checks/data holds "
-                         "DIN 32711's only), and the polygon-shaft program cuts three lobes; give the "
-                         "P4C programs as files (vmach batch A.MPF B.MPF ...)", kind="usage")
+        return p4c_cases(program, sizes)
     if fam not in FAMILIES:
         raise InputError(f"--family {family}: one of {', '.join(FAMILIES)}", kind="usage")
     table = p3g_table()

@@ -55,7 +55,7 @@ def unknown_tools(commands: Sequence[canon.Command], library) -> list[Finding]:
 
 
 def spindle_off_cuts(table: MoveTable, tool_spindle: int | None, reach=None,
-                     turning: np.ndarray | None = None) -> list[Finding]:
+                     turning: np.ndarray | None = None, probe: np.ndarray | None = None) -> list[Finding]:
     """``spindle_off_cut`` for feed moves while the spindle driving the tool stands still.
 
     tool_spindle : the spindle that turns the cutter (the turn-mill's live-tool spindle 2);
@@ -67,11 +67,15 @@ def spindle_off_cuts(table: MoveTable, tool_spindle: int | None, reach=None,
     turning : (n,) bool or None — rows the workpiece's turning cuts (a turning tool, or no
         tool at all, on a machine with a tool spindle): their spindle is the master spindle
         (:func:`turning_rows`).
+    probe : (n,) bool or None — rows of a touch probe (:func:`vmach.checks.probing.probe_rows`):
+        it does not turn, and cuts nothing.
     """
     n = len(table)
     if n == 0:
         return []
     cutting = table.kind != TRAVERSE
+    if probe is not None:
+        cutting &= ~np.asarray(probe, bool)
     main = np.zeros(n, bool) if turning is None or tool_spindle is None else np.asarray(turning, bool)
     if tool_spindle is None:
         turning = table.master_state()[1] != 0

@@ -123,6 +123,29 @@ def linuxcnc_options(args: argparse.Namespace) -> dict:
     return out
 
 
+def _oriented_ends(commands: list, model) -> dict[int, dict]:
+    """Axis values the model's transformation gives (vmach.machine.oriented), by command index:
+    the end of each TRAORI/CYCLE800 block (OrientedMove) and the motions whose positions only
+    the machine knew (``nan`` after TRAORI or TRAFOOF)."""
+    from vmach.canon import OrientedMove
+    from vmach.machine.oriented import needs_resolving, resolve
+
+    if not needs_resolving(commands):
+        return {}
+    solved, _ = resolve(commands, model, ends_only=True)
+    out: dict[int, dict] = {}
+    j = 0
+    for i, c in enumerate(commands):
+        row = solved[j + 1] if j + 1 < len(solved) else None
+        if isinstance(c, OrientedMove) and isinstance(row, MOTIONS) and row.source is c.source:
+            out[i] = dict(row.axes)
+            j += 1
+        elif isinstance(c, MOTIONS) and any(v != v for v in c.axes.values()):
+            out[i] = dict(solved[j].axes)
+        j += 1
+    return out
+
+
 def _json_line(cmd, drives: dict | None) -> str:
     if drives is None:
         return format_json(cmd)
@@ -154,11 +177,12 @@ def _drive_values(model_path: Path | None, result: RunResult) -> dict[int, dict]
     model = load_model(model_path)
     if not model.spec.parallel:
         return {}
-    idx = [i for i, c in enumerate(result.commands) if isinstance(c, MOTIONS)]
+    ends = _oriented_ends(result.commands, model)
+    idx = [i for i, c in enumerate(result.commands) if isinstance(c, MOTIONS) or i in ends]
     if not idx:
         return {}
     home = dict(zip(model.axes, model.home, strict=True))
-    q = np.array([[result.commands[i].axes.get(a, home[a]) for a in model.axes] for i in idx])
+    q = np.array([[ends.get(i, result.commands[i].axes).get(a, home[a]) for a in model.axes] for i in idx])
     values, ok = model.drive_values(q)
     known = ~np.isnan(q).any(axis=1)     # nan: a position only the machine knows (after TRAORI)
     out = {}

@@ -111,10 +111,76 @@ def _slerp(t0: np.ndarray, t1: np.ndarray, f: np.ndarray) -> np.ndarray:
     return np.cos(a) * t0 + np.sin(a) * perp
 
 
+def _turning(c: canon.OrientedMove, t0: np.ndarray, t1: np.ndarray, tangent=None):
+    """The tool vector as a function of the fraction (callable f (n,) → (n, 3) unit vectors) and
+    the angle (degrees) it turns through: the great circle (ORIVECT), or a cone (ORICONCW/CCW
+    about ``c.cone``, ORICONIO through ``c.cone``, ORICONTO leaving t0 along ``tangent``, the
+    way the orientation went at the end of the block before): azimuth about the cone's axis
+    uniformly, the angle to the axis linearly from the start's to the end's. (None, 0) for a
+    cone that does not join them."""
+    great = math.degrees(math.acos(max(-1.0, min(1.0, float(t0 @ t1)))))
+    if c.interpolation == "cone_to" and great > 1e-9:
+        if tangent is None:
+            return None, 0.0
+        n = np.cross(tangent, t1 - t0)
+        if np.linalg.norm(n) < 1e-12:                 # t1 ahead on the great circle: ORIVECT
+            return (lambda f: _slerp(t0, t1, f)), great
+        u = _unit(n) if n @ t0 >= 0 else -_unit(n)
+        ccw = float(np.cross(u, t0) @ tangent) > 0
+        return _turning(replace(c, interpolation="cone_ccw" if ccw else "cone_cw", cone=tuple(u)), t0, t1)
+    if c.cone is None or not c.interpolation.startswith("cone"):
+        return (lambda f: _slerp(t0, t1, f)), great
+    if c.interpolation == "cone_io":
+        m = _unit(c.cone)
+        n = np.cross(m - t0, t1 - t0)
+        if np.linalg.norm(n) < 1e-9:
+            return None, 0.0
+        u = _unit(n)
+        u = u if u @ t0 >= 0 else -u
+    else:
+        u = _unit(c.cone)
+    e1 = t0 - (t0 @ u) * u
+    e_end = t1 - (t1 @ u) * u
+    if np.linalg.norm(e1) < 1e-9 or np.linalg.norm(e_end) < 1e-9:
+        return None, 0.0
+    e1 = _unit(e1)
+    e2 = np.cross(u, e1)
+    az = math.atan2(float(t1 @ e2), float(t1 @ e1)) % (2 * math.pi)      # counter-clockwise
+    if c.interpolation == "cone_io":
+        mid = math.atan2(float(m @ e2), float(m @ e1)) % (2 * math.pi)
+        sweep = az if mid <= az else az - 2 * math.pi
+    elif c.interpolation == "cone_ccw":
+        sweep = az if az > 1e-12 else 2 * math.pi
+    else:
+        sweep = az - 2 * math.pi if az > 1e-12 else -2 * math.pi
+    p0 = math.acos(max(-1.0, min(1.0, float(t0 @ u))))
+    p1 = math.acos(max(-1.0, min(1.0, float(t1 @ u))))
+
+    def at(f):
+        a, p = f * sweep, p0 + f * (p1 - p0)
+        ring = np.cos(a)[:, None] * e1 + np.sin(a)[:, None] * e2
+        return np.cos(p)[:, None] * u + np.sin(p)[:, None] * ring
+
+    return at, math.degrees(abs(sweep) * max(math.sin(p0), math.sin(p1)) + abs(p1 - p0))
+
+
 def _path(c: canon.OrientedMove, start: np.ndarray, end: np.ndarray, geo, chord: float):
-    """Tip as a function of the fraction: (callable f (n,) → (n, 3), chords the path needs)."""
+    """Tip as a function of the fraction: (callable f (n,) → (n, 3), chords the path needs).
+    An arc with a ``frame`` lies in the frame's plane: computed in program coordinates, then
+    mapped to the workpiece (a swivelled plane's circle)."""
     if c.motion != "arc":
         return (lambda f: start + f[:, None] * (end - start)), 1
+    if c.frame is None:
+        return _arc(c, start, end, geo, chord)
+    origin, lin = np.array(c.frame[:3]), np.array(c.frame[3:]).reshape(3, 3)
+    scale = abs(np.linalg.det(lin)) ** (1 / 3) or 1.0
+    at, chords = _arc(c, np.linalg.solve(lin, start - origin), np.linalg.solve(lin, end - origin), geo,
+                      chord / scale)
+    return (lambda f: origin + at(f) @ lin.T), chords
+
+
+def _arc(c: canon.OrientedMove, start: np.ndarray, end: np.ndarray, geo, chord: float):
+    """The arc of ``c`` (plane, centre in the coordinates of start and end) as ``_path``."""
     col = {g: i for i, g in enumerate(geo)}
     arc = canon.ArcFeed(c.source, plane=c.plane, center=c.center, clockwise=c.clockwise, turns=c.turns)
     pts = arc_points(start, end, arc, col, chord)
@@ -159,7 +225,7 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
             return [], error("invalid_value", "the programmed tool vector is zero", c.source)
         t1 = _unit(c.vector)
         end = prev
-        if c.interpolation != "vector" or c.prefer is not None or o.at_pole(t0):
+        if c.interpolation == "axes" or c.prefer is not None or o.at_pole(t0):
             e_o, e_i, reach, _ = o.rotaries(t1[None], prev, c.prefer)   # else: the last sample
             if not reach[0]:
                 return [], _unreachable(c, t1)
@@ -169,8 +235,15 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
         qe = q0.copy()
         qe[o.outer], qe[o.inner] = end
         t1 = o.vector(qe[None])[0]
-    vector_mode = c.interpolation == "vector" and (by_vector or not math.isclose(t0 @ t1, 1.0))
-    turn = math.degrees(math.acos(max(-1.0, min(1.0, float(t0 @ t1)))))
+    vector_mode = c.interpolation != "axes" and (by_vector or not math.isclose(t0 @ t1, 1.0))
+    turning, turn = _turning(c, t0, t1, (last or {}).get("tangent"))
+    if last is not None:
+        last["tangent"] = None
+    if turning is None:
+        return [], error("invalid_value", "the cone does not take the tool from its start to its end "
+                         "orientation (the axis is along one of them, the three orientations of "
+                         "ORICONIO do not span a cone, or ORICONTO follows no change of "
+                         "orientation)", c.source)
     along, chords = _path(c, tip0, tip1, geo, chord)
     spread = turn if vector_mode else max(abs(end[0] - prev[0]), abs(end[1] - prev[1]))
     n = n0 = max(chords, math.ceil(spread / step), 1)
@@ -180,7 +253,7 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
     while True:
         f = np.arange(1, n + 1) / n
         if vector_mode:
-            so, si, reach, _ = o.rotaries(_slerp(t0, t1, f), prev)
+            so, si, reach, _ = o.rotaries(turning(f), prev)
             if not reach.all():
                 return [], _unreachable(c, t1)
         else:
@@ -199,6 +272,10 @@ def _block(o: Orienter, c: canon.OrientedMove, cur: dict, names: list, step: flo
         q = o.linear_axes(q, along(f))
         if last is not None:
             last.update(q=q[-1].copy(), tip=tip1, axis=t1)
+    if last is not None and vector_mode and turn > 1e-9:    # the orientation's way at the end
+        d = t1 - turning(np.array([1.0 - 1e-6]))[0]
+        d = d - (d @ t1) * t1
+        last["tangent"] = _unit(d) if np.linalg.norm(d) > 1e-15 else None
     rows = []
     for r in q:
         axes = dict(cur)

@@ -18,7 +18,7 @@ from vmach.canon import ControlSpec
 from vmach.errors import ProgramError
 from vmach.tol import tol
 
-TRAVERSE, FEED, ARC = 0, 1, 2
+TRAVERSE, FEED, ARC, PROBE = 0, 1, 2, 3
 KIND_NAMES = ("traverse", "feed", "arc")
 FEED_MODES = ("per_minute", "per_rev", "inverse_time")
 DIRECTIONS = {"stop": 0, "cw": 1, "ccw": -1}
@@ -31,7 +31,8 @@ class MoveTable:
     axes : (k,) str — machine axis names, the column order of ``start`` and ``end``
     rotary : (k,) bool — which axes are rotary (degrees)
     start, end : (n, k) float — axis values, mm and degrees (modulo axes unwrapped)
-    kind : (n,) int8 — TRAVERSE, FEED or ARC (a chord of an arc)
+    kind : (n,) int8 — TRAVERSE, FEED, ARC (a chord of an arc) or PROBE (a measuring move,
+        canon.ProbeMove: a feed that stops at contact)
     feed : (n,) float — programmed feed in the unit ``feed_mode`` gives; NaN for traverses
     feed_mode : (n,) int8 — index into FEED_MODES
     tool : (n,) int16 — index into ``tools``; -1 before the first tool change and after T0
@@ -176,6 +177,8 @@ def build(commands: Sequence[canon.Command], control: ControlSpec, chord: float 
                 end[col[a]] = v
             if isinstance(c, canon.Traverse):
                 add(pos, end, TRAVERSE, math.nan, ci, c)
+            elif isinstance(c, canon.ProbeMove):
+                add(pos, end, PROBE, c.feed, ci, c)
             else:
                 add(pos, end, FEED, c.feed, ci, c)
             pos = end

@@ -5,7 +5,9 @@ Format (every length in mm, angles in degrees)::
     [[tool]]
     name = "GLOD D40"          # as the program calls it: T="GLOD D40"
     number = 1                 # T1 (optional)
-    type = "face"              # flat | face | ball | bull | chamfer | drill
+    type = "face"              # flat | face | ball | bull | chamfer | drill | probe
+                               # (probe: a touch probe, diameter = its stylus ball's,
+                               # cutting_length = the stylus; it removes no material)
                                # (turning | boring | grooving | threading: vmach.tooling.turning_toml;
                                # flywheel: vmach.tooling.flywheel)
     diameter = 40.0
@@ -244,7 +246,7 @@ def _one(entry: Any, i: int, lines: KeyLines, bad) -> Tool | None:
             bad(where + ("corner_radius",), "corner_radius must be > 0 and <= diameter/2")
     if kind == "chamfer" and dia is not None and tip is not None and tip >= dia:
         bad(where + ("tip_diameter",), "tip_diameter must be smaller than diameter")
-    if kind == "ball" and dia is not None and length is not None and length < dia / 2:
+    if kind in ("ball", "probe") and dia is not None and length is not None and length < dia / 2:
         bad(where + ("cutting_length",), "a ball end mill's cutting_length must reach diameter/2")
     offsets = _offsets(entry.get("d", {}), where, bad)
     if None in (name, kind, dia, length, point, tip, corner):

@@ -30,7 +30,7 @@ import numpy as np
 
 from vmach.source import SourceRef
 
-KINDS = ("flat", "face", "ball", "bull", "chamfer", "drill")
+KINDS = ("flat", "face", "ball", "bull", "chamfer", "drill", "probe")
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,7 +106,7 @@ class Tool:
         pts: list[tuple[float, float]] = [(0.0, 0.0)]
         if self.kind in ("flat", "face"):
             pts.append((0.0, R))
-        elif self.kind == "ball":
+        elif self.kind in ("ball", "probe"):     # a touch probe: its stylus ball
             for a in _arc_angles(R, math.pi / 2, chord)[1:]:
                 pts.append((R - R * math.cos(a), R * math.sin(a)))
         elif self.kind == "bull":

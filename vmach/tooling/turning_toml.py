@@ -51,7 +51,7 @@ def turning_tool(entry: Mapping[str, Any], where: tuple, lines, bad, num, offset
         bad(where + ("shape",), f"shape must be an ISO insert letter ({', '.join(SHAPES)}); got {shape!r}")
         return None
     sl = entry.get("edge_position", _DEFAULT_SL[kind])
-    if isinstance(sl, bool) or not isinstance(sl, int) or sl not in EDGE_POSITIONS:
+    if isinstance(sl, bool) or not isinstance(sl, int | float) or sl not in EDGE_POSITIONS:
         bad(where + ("edge_position",), "edge_position must be an integer 1..9 (cutting edge position SL)")
         return None
     vals: dict[str, float] = {}

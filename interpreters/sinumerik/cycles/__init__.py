@@ -14,7 +14,17 @@ the cycles that work at the current position), :func:`run` and :func:`modal`.
 
 from __future__ import annotations
 
-from interpreters.sinumerik.cycles import boring, facing, pockets, slots, spigots
+from interpreters.sinumerik.cycles import (
+    boring,
+    contour,
+    engraving,
+    facing,
+    measuring,
+    pockets,
+    positions,
+    slots,
+    spigots,
+)
 from interpreters.sinumerik.cycles.common import Context
 from interpreters.sinumerik.cycles.parameters import SPECS, bind
 from interpreters.sinumerik.cycles.path import TooMany
@@ -25,11 +35,15 @@ from vmach.source import SourceRef
 _EXPAND = {
     "CYCLE71": facing.face, "CYCLE61": facing.face,
     "POCKET3": pockets.rectangular, "POCKET4": pockets.circular,
-    "CYCLE76": spigots.rectangular, "CYCLE77": spigots.circular,
+    "CYCLE76": spigots.rectangular, "CYCLE77": spigots.circular, "CYCLE79": spigots.polygon,
     "LONGHOLE": slots.longhole, "SLOT1": slots.slot1, "SLOT2": slots.slot2,
     "CYCLE84": boring.tap, "CYCLE840": boring.tap,
     "CYCLE85": boring.bore, "CYCLE86": boring.bore, "CYCLE87": boring.bore,
     "CYCLE88": boring.bore, "CYCLE89": boring.bore,
+    "CYCLE60": engraving.engrave, "CYCLE72": contour.mill,
+    "CYCLE976": measuring.measure, "CYCLE977": measuring.measure, "CYCLE978": measuring.measure,
+    "CYCLE979": measuring.measure, "CYCLE998": measuring.measure,
+    "CYCLE802": lambda ctx: positions.positions(ctx, modal),
 }
 if set(_EXPAND) != set(SPECS):
     raise ImportError("parameters.toml and the expansion modules name different cycles")

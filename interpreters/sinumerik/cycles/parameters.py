@@ -20,12 +20,13 @@ from vmach.source import SourceRef
 
 @dataclass(frozen=True, slots=True)
 class Parameter:
-    """One parameter: ``name`` as the manual spells it, ``type`` "real" or "int", its
-    ``default`` and what it means; ``operate`` when SINUMERIK Operate added it."""
+    """One parameter: ``name`` as the manual spells it, ``type`` "real", "int" or "string",
+    its ``default`` (a string parameter's is "") and what it means; ``operate`` when
+    SINUMERIK Operate added it."""
 
     name: str
     type: str
-    default: float
+    default: float | str
     meaning: str
     operate: bool = False
 
@@ -44,8 +45,8 @@ class CycleSpec:
 class Call:
     """A call bound to its cycle's parameters.
 
-    values : name (without a leading underscore, upper case) -> the value (float; ints as
-        float); given : the names the call gave a value for.
+    values : name (without a leading underscore, upper case) -> the value (float, ints as
+        float; str for a "string" parameter); given : the names the call gave a value for.
     """
 
     spec: CycleSpec
@@ -63,8 +64,9 @@ def _load() -> dict[str, CycleSpec]:
     raw = tomllib.loads((Path(__file__).with_name("parameters.toml")).read_text(encoding="utf-8"))
     out = {}
     for name, t in raw.items():
-        ps = [Parameter(n, ty, float(d), m) for n, ty, d, m in t["classic"]]
-        ps += [Parameter(n, ty, float(d), m, True) for n, ty, d, m in t.get("operate", [])]
+        ps = [Parameter(n, ty, "" if ty == "string" else float(d), m) for n, ty, d, m in t["classic"]]
+        ps += [Parameter(n, ty, "" if ty == "string" else float(d), m, True)
+               for n, ty, d, m in t.get("operate", [])]
         out[name] = CycleSpec(name, t["family"], t["meaning"], tuple(ps))
     return out
 
@@ -91,6 +93,12 @@ def bind(name: str, args, src: SourceRef) -> Call:
         v = args[i] if i < len(args) else None
         if v is None:
             values[key(p.name)] = p.default
+            continue
+        if p.type == "string":
+            if not isinstance(v, str):
+                raise ProgramError("type_error", f"{name}: {p.name} needs a string", src)
+            values[key(p.name)] = v
+            given.add(key(p.name))
             continue
         if isinstance(v, (str, bool)):
             raise ProgramError("type_error", f"{name}: {p.name} needs a number", src)

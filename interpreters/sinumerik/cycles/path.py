@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from interpreters.sinumerik import swivel
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import PhasedRef, SourceRef
@@ -37,7 +38,11 @@ class Path:
         self.ia, self.ib, self.inn = (g.index(n) for n in self.plane)
         self.src = PhasedRef(src.path, src.line, src.column, src.text)
         frames = machine.frames
-        if frames.rotated and not frames.similar(self.ia, self.ib):
+        #: under TRAORI or CYCLE800 the moves are the tool tip in the (swivelled) plane
+        self.oriented = machine.traori is not None
+        if self.oriented:
+            swivel.current(machine, src)              # a G54 … selected under CYCLE800
+        if frames.rotated and not frames.similar(self.ia, self.ib) and not self.oriented:
             raise ProgramError("unsupported", "a cycle under a frame that scales the plane's axes "
                                "differently is not simulated", src)
 
@@ -55,17 +60,42 @@ class Path:
         for i, v in ((self.ia, a), (self.ib, b), (self.inn, n)):
             if v is not None:
                 p[i] = v
+        self.last = p
         m.pos = m.machine_axes(m.pos, p)
         return dict(m.pos)
+
+    def _oriented(self, motion: str, axes: dict, f: float = 0.0, **arc) -> None:
+        """Under TRAORI or CYCLE800: the move as an OrientedMove in program coordinates of the
+        active frame (``nan`` where the tip stays), the orientation kept."""
+        m = self.machine
+        axes = dict(axes)
+        axes.update(zip(m.geometry, self.last, strict=True))
+        for r in m.traori.rotaries:
+            axes[r] = math.nan
+        f = 0.0 if motion == "traverse" else f
+        frames = m.frames
+        frame = (*(frames.off.get(g, 0.0) for g in m.geometry), *frames.rotation_flat())
+        m.sink.append(canon.OrientedMove(self.src, motion=motion, axes=axes, feed=f, frame=frame,
+                                         interpolation=m.ori.interpolation, **arc))
 
     def rapid(self, a=None, b=None, n=None) -> None:
         before = dict(self.machine.pos)
         axes = self._target(a, b, n)
-        if axes != before:
+        if axes != before and self.oriented:
+            self._oriented("traverse", axes)
+        elif axes != before:
             self.machine.sink.append(canon.Traverse(self.src, axes=axes))
 
     def feed(self, f: float, a=None, b=None, n=None) -> None:
-        self.machine.sink.append(canon.LinearFeed(self.src, axes=self._target(a, b, n), feed=f))
+        axes = self._target(a, b, n)
+        if self.oriented:
+            self._oriented("feed", axes, f)
+        else:
+            self.machine.sink.append(canon.LinearFeed(self.src, axes=axes, feed=f))
+
+    def probe(self, f: float, a=None, b=None, n=None) -> None:
+        """A measuring move (the probe stops at contact; verify finds where)."""
+        self.machine.sink.append(canon.ProbeMove(self.src, axes=self._target(a, b, n), feed=f))
 
     def arc(self, f: float, end, centre, clockwise: bool, n=None) -> None:
         """An arc (a helix when ``n`` is given) in the plane to ``end`` about ``centre``."""
@@ -74,6 +104,9 @@ class Path:
         c3[self.ia], c3[self.ib] = centre
         cm = m.frames.to_machine(tuple(c3))
         axes = self._target(end[0], end[1], n)
+        if self.oriented:
+            self._oriented("arc", axes, f, plane=self.plane, center=tuple(centre), clockwise=clockwise)
+            return
         m.sink.append(canon.ArcFeed(self.src, axes=axes, plane=self.plane,
                                     center=(cm[self.ia], cm[self.ib]),
                                     clockwise=m.machine_cw(clockwise), feed=f))
@@ -137,6 +170,24 @@ def rounded_rect(centre, hx: float, hy: float, rc: float, angle: float, clockwis
             segs.append(("arc", p1, c))
     segs.append(("line", (hx, 0.0)))
     return _finish((hx, 0.0), segs, centre, angle, clockwise)
+
+
+def rounded_polygon(centre, n: int, apothem: float, rc: float, angle: float, clockwise: bool):
+    """A regular n-gon about ``centre`` whose flats lie ``apothem`` from it, the first flat's
+    outward normal at ``angle`` (radians), its corners rounded with radius rc (at most the
+    apothem): start (the middle of the first flat) and segments."""
+    rc = max(0.0, min(rc, apothem))
+    half = math.pi / n
+    dist = (apothem - rc) / math.cos(half)          # corner centres from the centre
+    normals = [(math.cos(2 * half * k), math.sin(2 * half * k)) for k in range(n + 1)]
+    segs = []                                       # counter-clockwise from the first flat
+    for k in range(n):
+        c = (dist * math.cos(2 * half * k + half), dist * math.sin(2 * half * k + half))
+        segs.append(("line", (c[0] + rc * normals[k][0], c[1] + rc * normals[k][1])))
+        if rc > TINY:
+            segs.append(("arc", (c[0] + rc * normals[k + 1][0], c[1] + rc * normals[k + 1][1]), c))
+    segs.append(("line", (apothem, 0.0)))
+    return _finish((apothem, 0.0), segs, centre, angle, clockwise)
 
 
 def circle(centre, radius: float, clockwise: bool):

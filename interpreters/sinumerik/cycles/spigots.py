@@ -1,4 +1,5 @@
-"""CYCLE76 (rectangular spigot) and CYCLE77 (circular spigot), as the control mills them.
+"""CYCLE76 (rectangular spigot), CYCLE77 (circular spigot) and CYCLE79 (multi-edge), as the
+control mills them.
 
 The spigot is milled from its blank (AP1 × AP2, or the blank diameter AP1; not given: the
 spigot plus a tool diameter all round) inwards in rings parallel to its outline, at most 80 %
@@ -9,14 +10,28 @@ rings from the outside in and leaves radially:
 - VARI 1, roughing: down to the foot + FALD, the walls left FAL thick;
 - VARI 2, finishing: one ring on the outline itself, level by level.
 
+CYCLE79's blank is a cylinder of diameter AP1 (not given: the corner circle plus two tool
+diameters); its rings are the multi-edge offset outwards (flats moved out, corner radius
+grown by the same amount), the outermost one clear of the blank's circle.
+
 The depth is RFP − DPR when DPR is given (not 0), else DP. Phases as the pockets:
 ``approach``, ``roughing depth i/n ring k/m``, ``finishing depth i/n``, ``retraction``.
 """
 
 from __future__ import annotations
 
+import math
+
 from interpreters.sinumerik.cycles.common import Context, clockwise
-from interpreters.sinumerik.cycles.path import circle, levels, place, rounded_rect, steps
+from interpreters.sinumerik.cycles.path import (
+    TINY,
+    circle,
+    levels,
+    place,
+    rounded_polygon,
+    rounded_rect,
+    steps,
+)
 
 
 def rectangular(ctx: Context) -> None:
@@ -57,6 +72,36 @@ def circular(ctx: Context) -> None:
 
     outside = (centre[0] + blank / 2 + 2 * r, centre[1])
     _mill(ctx, h, r, ring, (blank - diameter) / 2, outside)
+
+
+def polygon(ctx: Context) -> None:
+    """CYCLE79."""
+    c = ctx.call
+    h = ctx.heights()
+    r = ctx.tool_radius()
+    n = int(c["NUM"])
+    if n < 3:
+        raise ctx.fail(f"a multi-edge needs 3 or more edges, not {n}", num=n)
+    size = abs(ctx.mm("SWL"))
+    if size <= 0:
+        raise ctx.fail("give the width across flats or the edge length SWL")
+    apothem = size / 2 if c["UMODE"] == 0 else size / (2 * math.tan(math.pi / n))
+    crad = abs(ctx.mm("CRAD"))
+    if crad > apothem + TINY:
+        raise ctx.fail(f"the corner radius {crad:g} is more than the multi-edge allows", crad=crad)
+    corner = (apothem - crad) / math.cos(math.pi / n) + crad
+    blank = abs(ctx.mm("AP1")) or 2 * corner + 4 * r
+    if blank / 2 < corner - TINY:
+        raise ctx.fail("the blank diameter AP1 is smaller than the multi-edge's corners", ap1=blank)
+    centre = (ctx.mm("PA"), ctx.mm("PO"))
+    angle = math.radians(c["STA"])
+    cw = clockwise(c["CDIR"], inside=False)
+
+    def ring(allow: float, e: float):
+        return rounded_polygon(centre, n, apothem + r + allow + e, crad + r + allow + e, angle, cw)
+
+    outside = place((blank / 2 + 2 * r, 0.0), centre, angle)
+    _mill(ctx, h, r, ring, max(blank / 2 - apothem, 0.0), outside)
 
 
 def _mill(ctx: Context, h, r: float, ring, excess: float, outside) -> None:
