@@ -416,6 +416,32 @@ class SurfaceSpeed(Command):
 
 
 @dataclass(frozen=True, slots=True)
+class SpindleCoupling(Command):
+    """A spindle coupled to another at a ratio (Sinumerik synchronous spindle ``COUPDEF``/
+    ``COUPON``/``COUPOF``), or uncoupled: what polygonal turning needs.
+
+    following, leading : spindle numbers (the following spindle FS, the leading spindle LS).
+    ratio : FS turns per LS turn (COUPDEF's numerator over its denominator; negative: FS turns
+        the other way). active : the coupling holds from here on (False: ended).
+    offset : degrees, FS's angle when LS is at 0 (position couplings; None: not given, taken as
+        0, or not fixed: a velocity coupling). mode : ``"DV"`` setpoint, ``"AV"`` actual value
+        (both position couplings) or ``"VV"`` velocity coupling.
+    """
+
+    following: int = 2
+    leading: int = 1
+    ratio: float = 1.0
+    active: bool = True
+    offset: float | None = None
+    mode: str = "DV"
+    kind: ClassVar[str] = "spindle_coupling"
+
+    def fields(self) -> dict[str, Any]:
+        return {"following": self.following, "leading": self.leading, "ratio": self.ratio,
+                "active": self.active, "offset": self.offset, "mode": self.mode}
+
+
+@dataclass(frozen=True, slots=True)
 class FeedMode(Command):
     """Feed interpretation: ``"per_minute"``, ``"per_rev"`` or ``"inverse_time"``."""
 

@@ -27,7 +27,7 @@ import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from interpreters.sinumerik import approach, orientation, sandbox, surface
+from interpreters.sinumerik import approach, coupling, orientation, sandbox, surface
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.cycles import NAMES as MILLING
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
@@ -208,6 +208,7 @@ _READERS: dict[str, Callable] = {
     "limits": approach.read_limits,
     "axis_mark": _axis_mark,
     "zero_value": _value,
+    "coupling": _procedure,
 }
 
 
@@ -269,6 +270,8 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
         return approach.step(it, item, src)
     if kind == "zero_value":
         return _zero_value(it, item, fs[0], src)
+    if kind == "coupling":
+        return coupling.step(it, item, src)
     if kind == "alarm":
         f = fs[0]
 

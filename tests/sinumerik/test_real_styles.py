@@ -212,7 +212,7 @@ M30
 def test_functions_vmach_does_not_simulate_are_unsupported_by_name(tmp_path):
     # never `unknown_cycle`, `unknown_word` or `undefined_variable` for the control's own words
     for line in ("GETSELT(R1)", 'TCA("BALL6", 1, 1)', "SPLINEPATH(1, X, Y, Z)", "G1 X1 PL=2 F100",
-                 "G41 CUT3DC ISD=2 X1 F100", "TRAILON(Y, X, 1)", "COUPON(S2, S1, 1)",
+                 "G41 CUT3DC ISD=2 X1 F100", "TRAILON(Y, X, 1)", "LEADON(Y, X, 1)",
                  'R1=GETT("BALL6", 1)', "R1=CALCDAT(R[10], 3, R[20])", 'EXECSTRING("G0 X1")',
                  'E_HEAD(1, "PLATE", 0, 100)', "F_DRILL(1, 2)"):      # ShopMill / ShopTurn step cycles
         found = check(tmp_path, f"G0 X0 Y0 Z0\n{line}\nM30\n", MILL5AC)

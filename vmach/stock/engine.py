@@ -21,7 +21,8 @@ Solid = m3d.Manifold
 
 __all__ = [
     "EMPTY_BOX", "Solid", "StockError", "box", "box_of", "bounds", "centroid", "check", "cylinder", "empty",
-    "from_arrays", "from_mesh", "hull", "hull_mesh", "intersect", "is_empty", "min_gap", "num_triangles",
+    "extruded", "from_arrays", "from_mesh", "hull", "hull_mesh", "intersect", "is_empty", "min_gap",
+    "num_triangles",
     "revolved", "slice_polygons",
     "split", "subtract", "subtract_checked", "to_arrays", "to_mesh", "transform", "trim", "union", "volume",
 ]
@@ -358,3 +359,20 @@ def revolved(hulls: Sequence[np.ndarray], segments: int, box: Sequence[float] | 
     if cs.is_empty() or cs.area() <= 0:
         return empty()
     return m3d.Manifold.revolve(cs, int(segments))
+
+
+def extruded(hulls: Sequence[np.ndarray], z0: float, z1: float, half: float | None = None) -> Solid:
+    """The union of the convex hulls of ``hulls``, each (k, 2) float points ``(x, y)`` mm (a
+    polygonal-turning cross-section: :mod:`vmach.stock.strategies.polygonal`), extruded along Z
+    from ``z0`` to ``z1`` mm; ``half`` (mm): the section is first clipped to the square
+    ``|x|, |y| <= half`` (the stock's extent). Empty when nothing is left or z1 <= z0."""
+    parts = [m3d.CrossSection.hull_points(np.ascontiguousarray(h, dtype=np.float64)) for h in hulls
+             if len(h) >= 3]
+    if not parts or not z1 > z0:
+        return empty()
+    cs = m3d.CrossSection.batch_boolean(parts, m3d.OpType.Add) if len(parts) > 1 else parts[0]
+    if half is not None:
+        cs = cs ^ m3d.CrossSection.square((2.0 * half, 2.0 * half), True)
+    if cs.is_empty() or cs.area() <= 0:
+        return empty()
+    return m3d.Manifold.extrude(cs, float(z1 - z0)).translate((0.0, 0.0, float(z0)))

@@ -79,7 +79,20 @@ class Revolved:
     rows: tuple[int, int] = NO_ROWS
 
 
-Job = Placed | Runs | Fan | ColumnJob | Revolved
+@dataclass(frozen=True, eq=False)
+class Polygonal:
+    """A polygonal-turning pass (:mod:`vmach.stock.strategies.polygonal`): the convex 2-D point
+    sets ``hulls``, each (k, 2) ``(x, y)`` mm in the work frame — the inserts of a flywheel
+    cutter coupled to the main spindle at consecutive angles — whose union, extruded along Z
+    from ``z0`` to ``z1`` mm, is what the pass removes."""
+
+    hulls: list[np.ndarray]
+    z0: float
+    z1: float
+    rows: tuple[int, int] = NO_ROWS
+
+
+Job = Placed | Runs | Fan | ColumnJob | Revolved | Polygonal
 
 
 @dataclass(frozen=True, eq=False)

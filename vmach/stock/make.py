@@ -14,10 +14,10 @@ from vmach.stock import engine
 from vmach.stock.clip import Shape, clip, shape, sweep_shape
 from vmach.stock.cusps import FIN_LEAST
 from vmach.stock.fan import prism
-from vmach.stock.jobs import ColumnJob, Cutter, Fan, Job, Placed, Revolved, Runs
+from vmach.stock.jobs import ColumnJob, Cutter, Fan, Job, Placed, Polygonal, Revolved, Runs
 from vmach.stock.make_fans import FanMaker
 from vmach.stock.stats import CutStats
-from vmach.stock.strategies import revolved
+from vmach.stock.strategies import polygonal, revolved
 from vmach.stock.view import View
 from vmach.tooling.solid import RIM_SAG, ToolSolid, fin_points, place
 
@@ -91,13 +91,14 @@ class Maker:
         turning path's revolved cutters (``ts`` None)."""
         out: list[Cutter] = []
         for j in jobs:
-            if isinstance(j, Revolved):
-                c = revolved.make(j, self.view.bounds, self.turn_segments)
+            if isinstance(j, Revolved | Polygonal):
+                c = (revolved.make(j, self.view.bounds, self.turn_segments) if isinstance(j, Revolved)
+                     else polygonal.make(j, self.view.bounds))
                 if c is None:
                     self.stats.culled += 1
                 else:
                     out.append(c)
-        jobs = [j for j in jobs if not isinstance(j, Revolved)]
+        jobs = [j for j in jobs if not isinstance(j, Revolved | Polygonal)]
         pieces = list(dict.fromkeys(0 if isinstance(j, Fan | ColumnJob) else j.piece for j in jobs))
         for k in pieces:
             mine = [j for j in jobs if (0 if isinstance(j, Fan | ColumnJob) else j.piece) == k]

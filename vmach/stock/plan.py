@@ -25,7 +25,7 @@ from vmach.stock.make_fans import run_frames
 from vmach.stock.stats import CutStats
 from vmach.stock.strategies import cusps as cusp_poses
 from vmach.stock.strategies import fans as fan_runs
-from vmach.stock.strategies import fins, revolved, runs
+from vmach.stock.strategies import fins, polygonal, revolved, runs
 from vmach.stock.sweep import plan, run_extremes, stacked_runs
 from vmach.stock.view import View
 from vmach.tol import tol
@@ -118,6 +118,18 @@ class Planner:
         self.stats.poses += len(tips)
         rows = None if rows is None else np.asarray(rows, dtype=int)
         return revolved.claim(section, revolved.half_plane(tips), rows)
+
+    def polygon(self, tool, coupling, points: np.ndarray, rows: np.ndarray | None = None) -> list[Job]:
+        """The jobs of a polygonal-turning path (:mod:`vmach.stock.strategies.polygonal`): the
+        flywheel ``tool`` coupled by ``coupling``, its point P at ``points`` (n, 3) machine frame mm."""
+        pts, _ = _checked(points, np.broadcast_to([1.0, 0.0, 0.0], np.shape(points)), rows)
+        self.stats.paths += 1
+        self.stats.poses += len(pts)
+        lo, hi = self.view.bounds
+        r_max = float(np.hypot(np.abs([lo[0], hi[0]]).max(), np.abs([lo[1], hi[1]]).max())) + 1.0
+        rows = None if rows is None else np.asarray(rows, dtype=int)
+        z_range = (float(lo[2]) - 1.0, float(hi[2]) + 1.0)
+        return polygonal.claim(tool, coupling, pts, rows, r_max, z_range=z_range)
 
     def _claim(self, tool, ts: ToolSolid, tips, axes, between, others, rows, t0: float):
         """The strategies, in their order, over one path: (_Path, t0 less the retake's time)."""

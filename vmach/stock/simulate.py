@@ -22,6 +22,7 @@ from functools import partial
 import numpy as np
 
 from vmach.checks import probing
+from vmach.checks.polygon_events import polygon_path
 from vmach.checks.stock_events import CheckedPath
 from vmach.checks.turning_events import turn_checked
 from vmach.errors import ProgramError
@@ -118,15 +119,21 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
     rotary = np.array([table.rotary[table.axes.index(a)] if a in table.axes else False for a in axes])
     paths = _sampled_paths(table, model, library, rotary, res, angle, step)
     # the coverage index knows the milling paths only (a turning path's insert covers no rim
-    # band, a probe cuts nothing)
+    # band, a probe cuts nothing, a flywheel is cut as polygonal turning)
     milling = [i for i, p in enumerate(paths)
-               if not getattr(p[2], "turning", False) and getattr(p[2], "kind", None) != "probe"]
+               if not (getattr(p[2], "turning", False) or getattr(p[2], "polygon", False))
+               and getattr(p[2], "kind", None) != "probe"]
     index = {i: j for j, i in enumerate(milling)}
     sweeps = Sweeps([Motion(q, model.fk, np.asarray(pose.tip, dtype=float), _unit(pose.axis),
                             *cusps.outline(found))
                      for (_, _, found, q, _, pose) in (paths[i] for i in milling)])
     for i, (a, b, found, q, k, pose) in enumerate(paths):
         rows = a + np.r_[0, np.repeat(np.arange(b - a), k)]     # each pose's row (a step: the row it ends)
+        if getattr(found, "polygon", False):      # a flywheel cutter coupled to the turning work
+            polygon_path(stock, found, table, model, q, np.asarray(pose.tip, dtype=float), rows, res, checks)
+            res.moves += b - a
+            res.samples += len(q)
+            continue
         if getattr(found, "kind", None) == "probe":     # a touch probe cuts nothing
             if checks:
                 probing.check_path(stock, found, table, a, b, k, pose, res)

@@ -151,6 +151,23 @@ class Stock:
         self.stats.sweep_seconds += time.perf_counter() - t0
         return cutters
 
+    def polygon(self, tool, coupling, points: np.ndarray, rows: np.ndarray | None = None) -> int:
+        """Queue what a flywheel cutter (:class:`vmach.tooling.flywheel.FlywheelTool`) coupled to
+        the main spindle by ``coupling`` (:class:`vmach.stock.strategies.polygonal.Coupling`)
+        removes along one path, its point P at ``points`` (n, 3) machine frame mm (X, Y from the
+        spindle axis, Z along it); returns the number of cutters made. ``rows`` as for :meth:`cut`."""
+        cutters = self.polygon_cutters(tool, coupling, points, rows)
+        self.queue(cutters)
+        return len(cutters)
+
+    def polygon_cutters(self, tool, coupling, points: np.ndarray, rows: np.ndarray | None = None
+                        ) -> list[Cutter]:
+        """The cutters of :meth:`polygon`, not queued."""
+        t0 = time.perf_counter()
+        cutters = self.maker.make(None, self.planner.polygon(tool, coupling, points, rows))
+        self.stats.sweep_seconds += time.perf_counter() - t0
+        return cutters
+
     @property
     def turn_chord(self) -> float:
         """mm: the chord of a turning insert's nose arcs (the finer of the tool and blank chords)."""

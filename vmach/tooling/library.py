@@ -8,7 +8,8 @@ Format (every length in mm, angles in degrees)::
     type = "face"              # flat | face | ball | bull | chamfer | drill | probe
                                # (probe: a touch probe, diameter = its stylus ball's,
                                # cutting_length = the stylus; it removes no material)
-                               # (turning | boring | grooving | threading: vmach.tooling.turning_toml)
+                               # (turning | boring | grooving | threading: vmach.tooling.turning_toml;
+                               # flywheel: vmach.tooling.flywheel)
     diameter = 40.0
     cutting_length = 5.5
     teeth = 4                  # flutes or inserts (optional)
@@ -38,6 +39,7 @@ from vmach.findings import Finding, error
 from vmach.machine.control import parse_toml, read_text
 from vmach.machine.tomlpos import KeyLines
 from vmach.tol import tol
+from vmach.tooling.flywheel import flywheel_tool
 from vmach.tooling.model import KINDS, Offset, Tool
 from vmach.tooling.turning import TURNING_KINDS, TurningTool
 from vmach.tooling.turning_toml import turning_tool
@@ -203,6 +205,8 @@ def _one(entry: Any, i: int, lines: KeyLines, bad) -> Tool | None:
         return None
     if entry.get("type") in TURNING_KINDS:
         return turning_tool(entry, where, lines, bad, _num, _offsets)
+    if entry.get("type") == "flywheel":       # polygonal turning (vmach.tooling.flywheel)
+        return flywheel_tool(entry, where, lines, bad, _num, _offsets)
     for k in entry:
         if k not in _KEYS:
             bad(where + (k,), f"unknown key {k!r}")
@@ -215,7 +219,8 @@ def _one(entry: Any, i: int, lines: KeyLines, bad) -> Tool | None:
         name = None
     kind = entry.get("type")
     if "type" in entry and kind not in KINDS:
-        bad(where + ("type",), f"type must be one of {', '.join(KINDS + TURNING_KINDS)}; got {kind!r}")
+        known = ", ".join(KINDS + TURNING_KINDS + ("flywheel",))
+        bad(where + ("type",), f"type must be one of {known}; got {kind!r}")
         kind = None
     number = entry.get("number")
     if number is not None and (isinstance(number, bool) or not isinstance(number, int) or number < 0):

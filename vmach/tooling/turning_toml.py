@@ -43,14 +43,9 @@ def turning_tool(entry: Mapping[str, Any], where: tuple, lines, bad, num, offset
     for k in entry:
         if k not in KEYS:
             bad(where + (k,), f"unknown key {k!r} for a {kind} tool")
-    name = entry.get("name")
-    if not isinstance(name, str) or not name.strip():
-        bad(where + ("name",) if "name" in entry else where, "name must be a non-empty string")
+    name, number = name_number(entry, where, bad)
+    if name is None:
         return None
-    number = entry.get("number")
-    if number is not None and (isinstance(number, bool) or not isinstance(number, int) or number < 0):
-        bad(where + ("number",), "number must be an integer >= 0")
-        number = None
     shape = entry.get("shape", "C")
     if kind in ("turning", "boring") and (not isinstance(shape, str) or shape not in SHAPES):
         bad(where + ("shape",), f"shape must be an ISO insert letter ({', '.join(SHAPES)}); got {shape!r}")
@@ -86,7 +81,7 @@ def turning_tool(entry: Mapping[str, Any], where: tuple, lines, bad, num, offset
         bad(where, "a boring tool needs bar = { diameter = .., length = .. }")
         return None
     return TurningTool(
-        name=name.strip(), kind=kind, number=number, shape=shape, inscribed=vals["inscribed"],
+        name=name, kind=kind, number=number, shape=shape, inscribed=vals["inscribed"],
         thickness=vals["thickness"], nose_radius=vals["nose_radius"], clearance=vals["clearance"],
         edge_position=int(sl), lead_angle=vals["lead_angle"], width=vals["width"],
         corner_radius=vals["corner_radius"], depth=vals["depth"], profile_angle=vals["profile_angle"],
@@ -95,6 +90,20 @@ def turning_tool(entry: Mapping[str, Any], where: tuple, lines, bad, num, offset
         holder_length=holder.get("length", 100.0 if kind != "boring" else 0.0),
         bar_diameter=bar.get("diameter", 0.0), bar_length=bar.get("length", 0.0),
         offsets=offsets(entry.get("d", {}), where, bad), source=lines.find(where))
+
+
+def name_number(entry: Mapping[str, Any], where: tuple, bad) -> tuple[str | None, int | None]:
+    """A tool entry's stripped name (None, told to ``bad``, when it is no non-empty string) and
+    number (None when absent or not an integer >= 0, told)."""
+    name = entry.get("name")
+    if not isinstance(name, str) or not name.strip():
+        bad(where + ("name",) if "name" in entry else where, "name must be a non-empty string")
+        return None, None
+    number = entry.get("number")
+    if number is not None and (isinstance(number, bool) or not isinstance(number, int) or number < 0):
+        bad(where + ("number",), "number must be an integer >= 0")
+        number = None
+    return name.strip(), number
 
 
 def _table(entry, key: str, keys: tuple[str, ...], where: tuple, bad, num) -> dict[str, float]:
