@@ -50,3 +50,28 @@ def test_a_boring_axis_other_than_the_planes_normal_is_unsupported(tmp_path):
     assert (e.kind, e.line) == ("unsupported", 5)
     # 3 under G17 is Z, the plane's normal: it runs
     ok(tmp_path, HEAD + "CYCLE86(50,0,2,-15,,0,3,0,0,0,0,3,0,0,0)\nM30\n", MILL3)
+
+
+def test_g_groups_posts_write_in_their_headers(tmp_path):
+    # the Programming Manual's table of G groups: spline begin/end (19, 20), collision
+    # monitoring (23), REPOS mode (26), corners with orientation (27), thread interruption
+    # (41), tool carrier (42), SAR (43, 44), cutcom approach (48), G0 interpolation (55),
+    # tool wear (56), working area limits (60): valid, no effect on the geometry vmach simulates
+    header = ("N10 G40 G17 G710 G94 G90 G60 G601 FNORM BNAT ENAT CDOF RMB ORID LFOF TCOABS\n"
+              "N20 G140 G340 G460 RTLION TOWSTD WALCS0\n")
+    text = header + "N30 T1 D1\nN40 G0 X10 Y5 Z20\nN50 M30\n"
+    assert errors(check(tmp_path, text, MILL5AC)) == []
+    r = ok(tmp_path, text, MILL5AC)
+    noted = {f.data.get("code") or f.message.split(":")[0] for f in r.findings if f.kind == "no_effect"}
+    assert {"TCOABS", "G460", "RTLION", "CDOF", "WALCS0"} <= noted
+    assert [m.axes["X"] for m in moves(r)] == [10.0]
+
+
+def test_g_codes_that_change_the_path_are_unsupported_by_name(tmp_path):
+    # RTLIOF: G0 axis by axis (no straight line); TCOFR: the tool along the frame; G461/G462:
+    # an arc or extension at cutcom approach; CDON: bottleneck detection skips blocks
+    for code in ("RTLIOF", "TCOFR", "G461", "CDON"):
+        text = f"T1 D1\nG0 X0 Y0 Z20\n{code}\nG0 X10\nM30\n"
+        e = error_of(run(tmp_path, text, MILL3))
+        assert (e.kind, e.line) == ("unsupported", 3), code
+        assert code in e.message
