@@ -75,3 +75,22 @@ def test_g_codes_that_change_the_path_are_unsupported_by_name(tmp_path):
         e = error_of(run(tmp_path, text, MILL3))
         assert (e.kind, e.line) == ("unsupported", 3), code
         assert code in e.message
+
+
+def test_cycle832_modes_as_the_posts_write_them(tmp_path):
+    # the tolerance first, then the mode: a number (1003, 112001), a mode constant of the
+    # cycle's definitions (_ROUGH, _ORI_FINISH) or a sum of them; CYCLE832() switches off
+    from vmach.canon import PathTolerance
+
+    calls = ["CYCLE832(0.1,1003)", "CYCLE832(0.1,112001)", "CYCLE832(_camtol,_SEMIFIN,1)",
+             "CYCLE832(0.01,_ORI_FINISH,1,0.5,1)", "CYCLE832(0.01,_FINISH+_TOP_SURFACE_SMOOTH_ON,1)",
+             "CYCLE832(0.02,_OFF,1)", "CYCLE832()"]
+    text = "DEF REAL _camtol=0.05\n" + HEAD + "\n".join(calls) + "\nG1 X5\nM30\n"
+    assert errors(check(tmp_path, text, MILL3)) == []
+    r = ok(tmp_path, text, MILL3)
+    tol = [c for c in r.commands if isinstance(c, PathTolerance)]
+    assert [t.tolerance for t in tol] == [0.1, 0.1, 0.05, 0.01, 0.01, 0.02, 0.0]
+    assert tol[4].setting[0] == "_FINISH+_TOP_SURFACE_SMOOTH_ON"
+    # a sum with a name the program defines is an expression, evaluated as such
+    e = error_of(run(tmp_path, HEAD + "CYCLE832(0.01,_FINISH+UNDEFINED_NAME,1)\nM30\n", MILL3))
+    assert (e.kind, e.line) == ("undefined_variable", 5)
