@@ -466,6 +466,9 @@ class BlockParser:
         while self.tok.kind != END:
             t = self.tok
             if t.kind != IDENT:
+                if t.kind == OP and t.text == "(":
+                    self.fail("syntax", "unexpected '(': in Siemens mode a comment starts with ';' "
+                              "('( … )' comments belong to the ISO dialect, G291, not simulated)")
                 self.fail("syntax", f"unexpected {self.describe(t)}")
             name = t.text
             if name in _JUMPS:

@@ -94,3 +94,10 @@ def test_cycle832_modes_as_the_posts_write_them(tmp_path):
     # a sum with a name the program defines is an expression, evaluated as such
     e = error_of(run(tmp_path, HEAD + "CYCLE832(0.01,_FINISH+UNDEFINED_NAME,1)\nM30\n", MILL3))
     assert (e.kind, e.line) == ("undefined_variable", 5)
+
+
+def test_a_parenthesised_comment_is_a_syntax_error_that_says_why(tmp_path):
+    # an 840D in Siemens mode reads ';' comments only; '( … )' is an ISO-dialect comment
+    f = check(tmp_path, "G0 X0\n(OPERATION 1 ROUGH)\nM30\n", MILL3)
+    assert errors(f) == [("syntax", 2)]
+    assert "G291" in f[0].message
