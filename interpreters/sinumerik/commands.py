@@ -27,9 +27,8 @@ import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from interpreters.sinumerik import approach, sandbox
+from interpreters.sinumerik import approach, sandbox, surface
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import surface
 from interpreters.sinumerik.cycles import NAMES as MILLING
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
