@@ -1,8 +1,8 @@
 """The CAM-post fixtures (fixtures/sinumerik_posts: programs written in the styles of Siemens
-NX, hyperMILL, Mastercam, PowerMill, Fusion 360, Edgecam, SolidCAM and CATIA posts for the
-840D, and a turning post) through the command line: ``check`` finds no error, ``run`` ends at
-the program's end on the machine its vmach.toml names, and three of them verify on their
-machines with every tool, limit and stock check, without an error (#32)."""
+NX, hyperMILL, Mastercam, PowerMill, Fusion 360, ESPRIT, Edgecam, SolidCAM and CATIA posts
+for the 840D, and a turning post) through the command line: ``check`` finds no error, ``run``
+ends at the program's end on the machine its vmach.toml names, and four of them verify on
+their machines with every tool, limit and stock check, without an error (#32)."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ PROGRAMS = sorted(p.name for p in POSTS.glob("*.MPF"))
 
 
 def test_every_post_style_is_a_fixture():
-    assert len(PROGRAMS) >= 9
+    assert len(PROGRAMS) >= 11
 
 
 @pytest.mark.parametrize("name", PROGRAMS)
@@ -36,7 +36,8 @@ def test_run_reaches_the_end(name, tmp_path, capsys):
     assert last["kind"] == "program_end"
 
 
-@pytest.mark.parametrize("name, moves", [("FUSION3X.MPF", 60), ("NX5AX.MPF", 40), ("LATHE.MPF", 30)])
+@pytest.mark.parametrize("name, moves", [("FUSION3X.MPF", 60), ("NX5AX.MPF", 40), ("LATHE.MPF", 30),
+                                         ("ESPRIT.MPF", 300)])
 def test_verify_is_clean(name, moves, tmp_path):
     code = main(["verify", str(POSTS / name), "--out", str(tmp_path / "o"), "--no-images", "--quiet"])
     report = json.loads((tmp_path / "o" / "report.json").read_text())
