@@ -360,6 +360,9 @@ class BlockParser:
         while self.tok.kind != END:
             t = self.tok
             if t.kind != IDENT:
+                if t.kind == OP and t.text == "(":
+                    self.fail("syntax", "unexpected '(': in Siemens mode a comment starts with ';' "
+                              "('( … )' comments belong to the ISO dialect, G291, not simulated)")
                 self.fail("syntax", f"unexpected {self.describe(t)}")
             name = t.text
             if name in _JUMPS:
@@ -482,11 +485,9 @@ class BlockParser:
                 tok = self.tok
                 if self.is_op(",") or self.is_op(")"):
                     args.append(None)
-                elif loose and tok.kind == IDENT and tok.text not in self.variables \
-                        and not tok.text.startswith("$") and (self.is_op(",", 1) or self.is_op(")", 1)) \
-                        and not (tok.text[0] == "R" and tok.text[1:].isdigit()):
-                    args.append(Node("str", tok.col, tok.text))
-                    self.pos += 1
+                elif loose and (n := self._constant_sum()):
+                    args.append(Node("str", tok.col, "+".join(self.peek(k).text for k in range(0, n, 2))))
+                    self.pos += n
                 else:
                     args.append(self.expr())
                 if not self.is_op(","):
@@ -494,6 +495,23 @@ class BlockParser:
                 self.pos += 1
         self.expect_op(")")
         return tuple(args)
+
+    def _constant_sum(self) -> int:
+        """How many tokens from here make one loose argument: a name the program does not
+        define (``_FINISH``), or a sum of such names that begin with ``_`` (the mode constants
+        of the cycles' definition files, ``_FINISH+_TOP_SURFACE_SMOOTH_ON``), up to the
+        argument's end; 0 when it is something else."""
+        k = 0
+        while True:
+            tok = self.peek(k) if k else self.tok
+            if tok.kind != IDENT or tok.text in self.variables or tok.text.startswith("$") \
+                    or (tok.text[0] == "R" and tok.text[1:].isdigit()) or (k and tok.text[0] != "_"):
+                return 0
+            if self.is_op(",", k + 1) or self.is_op(")", k + 1):
+                return k + 1
+            if not (self.is_op("+", k + 1) and tok.text.startswith("_")):
+                return 0
+            k += 2
 
     def plain(self, t: Token, block: b.Block) -> b.Item | None:
         """A word without '=': G code, keyword, address+number, or a call by name."""

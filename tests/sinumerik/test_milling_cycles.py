@@ -197,7 +197,7 @@ def test_cycle87_and_88_stop_the_spindle_and_the_program(tmp_path):
     ("CYCLE71(10, 1, 2, 0, 0, 0, 100, 40, 0, 2, 12)", "cycle_parameter"),          # MIDA > diameter
     ("SLOT1(10, 0, 2, -3, , 1, 30, 8)", "cycle_parameter"),                        # narrower than the tool
     ("CYCLE84(10, 0, 2, -8, , 0, 3, 7)", "cycle_parameter"),                       # M7 is no coarse thread
-    ("CYCLE85(10, 0, 2, -8, , 0, 100, 300, 1)", "call_arguments"),
+    ("CYCLE85(10, 0, 2, -8, , 0, 100, 300, 0, 0, 0, 0, 1)", "call_arguments"),  # Operate has 12
     ("POCKET4(10, 0, 2, -5, \"A\", 50, 40)", "type_error"),
     ("POCKET4(10, 0, 2, -5, 20, 50, 40, 5, 0, 0, 600, 200, 0.5)", "cycle_parameter"),  # CDIR not whole
 ])

@@ -44,6 +44,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "(rs274 -n 0); the errors are still findings")
     p.add_argument("--tools", help="tool library (.toml): the D offsets' radii for G41/G42 "
                    "(default: the setup file's)")
+    p.add_argument("--default-tool", metavar="KIND:d=D[,l=L]",
+                   help="stand in for every tool the library lacks (or all, without one) with "
+                   "this cutter, e.g. flat:d=10: its radius under G41/G42; each is a "
+                   "default_tool warning, never assumed silently")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -53,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--max-blocks must be 1 to {tol.max_blocks_ceiling:,}", kind="usage")
     control, model_path = control_for(path, args.machine)
     dialect = interpreters.dialect_for(path, args.dialect, control.dialect)
-    library = _library(path, args.tools)
+    library = _library(path, args.tools, args.default_tool)
     options = RunOptions(max_blocks=args.max_blocks, tool_radius=library.radius if library else None,
                          tool_data=library.data if library else None,
                          dialect_options=linuxcnc_options(args))
@@ -91,9 +95,18 @@ def run(args: argparse.Namespace) -> int:
             from vmach.cli import pipe_closed
 
             pipe_closed()
-    for f in result.findings:
+    for f in [*result.findings, *_stood_in(result, library)]:
         sys.stderr.write(f.render() + "\n")
     return code
+
+
+def _stood_in(result: RunResult, library) -> list:
+    """A ``default_tool`` warning at every tool change to a tool the stand-in replaces."""
+    if getattr(library, "stood_in", None) is None:
+        return []
+    from vmach.checks.process import unknown_tools
+
+    return [f for f in unknown_tools(result.commands, library) if f.kind == "default_tool"]
 
 
 def add_linuxcnc_arguments(p: argparse.ArgumentParser) -> None:
@@ -154,14 +167,24 @@ def _json_line(cmd, drives: dict | None) -> str:
     return dumps(row)
 
 
-def _library(program: Path, tools: str | None):
+def _library(program: Path, tools: str | None, default: str | None = None):
     """The tool library (tool radius compensation, the control's tool data): ``--tools``, else
-    the setup file's library, else None."""
-    from vmach.setup import read_setup
+    the setup file's library, else None; with ``--default-tool`` (or the setup's
+    ``default_tool``) a stand-in answers for the tools it lacks."""
+    from vmach.setup import read_setup, setting
     from vmach.tooling.library import load_tools
 
-    path = Path(tools) if tools else read_setup(program).tools
-    return load_tools(path) if path is not None else None
+    setup = read_setup(program)
+    path = Path(tools) if tools else setup.tools
+    library = load_tools(path) if path is not None else None
+    spec = default or setup.default_tool
+    if spec:
+        from vmach.tooling.default import WithDefault, parse_default_tool
+
+        with setting(setup, "default_tool", default):
+            library = WithDefault(library, parse_default_tool(
+                spec, "--default-tool" if default else "default_tool"))
+    return library
 
 
 def _drive_values(model_path: Path | None, result: RunResult) -> dict[int, dict]:

@@ -27,6 +27,7 @@ import tomllib
 from pathlib import Path
 
 from interpreters.sinumerik.cycles.common import Context, Heights
+from interpreters.sinumerik.drilling import PLANE_AXN
 from vmach import canon
 from vmach.errors import ProgramError
 
@@ -115,6 +116,10 @@ def _start(ctx: Context) -> Heights:
     if ctx.machine.cutcom.engaged:
         raise ProgramError("cutcom", f"{ctx.name} while tool radius compensation is active (G40 first)",
                            ctx.src)
+    axn = ctx.call.values.get("AXN", 0)
+    if axn and axn != PLANE_AXN.get(ctx.machine.plane):
+        raise ProgramError("unsupported", f"{ctx.name}: a tool axis _AXN={axn:g} other than the "
+                           "plane's normal is not simulated", ctx.src)
     h = ctx.heights()
     ctx.path.phase("approach")
     ctx.path.rapid(n=h.safe)
