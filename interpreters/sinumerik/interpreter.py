@@ -72,30 +72,43 @@ def read_program(path: Path, display: str, control: ControlSpec, text: str | Non
 
 def _entry(directory: Path, name: str) -> Path | None:
     """The entry ``NAME.SPF`` or ``NAME.MPF`` of ``directory`` (case-insensitive, SPF first),
-    wherever it leads."""
+    or the file as the control's file system names it, ``_N_NAME_SPF`` / ``_N_NAME_MPF`` (a
+    machine builder's archive copied from the control), wherever it leads."""
     if not name or any(ch in name for ch in "/\\:") or name in (".", ".."):
         return None
-    wanted = {name.upper() + s for s in PROGRAM_SUFFIXES}
     try:
         entries = sorted(os.listdir(directory))
     except OSError:
         return None
+    upper = name.upper()
     for suffix in PROGRAM_SUFFIXES:  # SPF before MPF
+        wanted = (upper + suffix, "_N_" + upper + "_" + suffix[1:])
         for entry in entries:
-            if entry.upper() == name.upper() + suffix and entry.upper() in wanted:
+            if entry.upper() in wanted:
                 p = directory / entry
                 if p.is_file() or p.is_symlink():  # a link is judged by where it leads
                     return p
     return None
 
 
+def program_stem(entry: str) -> str | None:
+    """The program name of a file name: ``NAME`` of ``NAME.SPF``/``NAME.MPF`` and of the
+    control's ``_N_NAME_SPF``/``_N_NAME_MPF`` (upper case), else None."""
+    e = entry.upper()
+    if e[-4:] in PROGRAM_SUFFIXES:
+        return e[:-4]
+    if e.startswith("_N_") and e[-4:] in ("_SPF", "_MPF") and len(e) > 7:
+        return e[3:-4]
+    return None
+
+
 def program_names(directory: Path) -> frozenset[str]:
-    """``NAME`` of every ``NAME.SPF``/``NAME.MPF`` in ``directory`` (upper case)."""
+    """``NAME`` of every program file in ``directory`` (upper case, :func:`program_stem`)."""
     try:
         entries = os.listdir(directory)
     except OSError:
         return frozenset()
-    return frozenset(e[:-4].upper() for e in entries if e[-4:].upper() in PROGRAM_SUFFIXES)
+    return frozenset(s for e in entries if (s := program_stem(e)) is not None)
 def names_a_path(name: str) -> bool:
     """True for a subprogram name that is a path (``CALL "../X"``, ``"/etc/x"``): vmach reads
     subprograms only beside the program, so such a name is refused as leading outside."""

@@ -47,6 +47,9 @@ TOOL_TYPES = {"flat": 120, "face": 140, "ball": 110, "bull": 121, "chamfer": 155
 #: $P_GG for a group vmach does not keep: its first code, the control's usual reset value
 UNTRACKED_GROUP = 1
 LOOSE_AXIS = re.compile(r"^[ABCUVWXYZ]\d*$")
+#: a machine axis name as the control's MD 10000 gives them by default: the channel axis's
+#: letters and a number (X1, Z1); vmach's models name each machine axis as its channel axis
+MACHINE_AXIS = re.compile(r"^([A-Z]+)\d+$")
 
 
 class Nck:
@@ -170,6 +173,8 @@ class Nck:
                 return a
             if a.startswith("AX") and a[2:].isdigit() and 1 <= int(a[2:]) <= len(names):
                 return names[int(a[2:]) - 1]
+            if (m := MACHINE_AXIS.match(a)) and m.group(1) in self.machine.specs:
+                return m.group(1)       # the machine axis X1 of channel axis X (MD 10000's names)
             if not self.control.strict_axes and LOOSE_AXIS.match(a):
                 return a            # no machine given: any axis letter is an axis (as in words)
             raise EvalError("unknown_axis", f"{what}[{v}]: {v} is not an axis of this machine")
