@@ -67,6 +67,7 @@ class Nck:
         self.md = control.machine_data
         self.src = SourceRef("<program>", 1)
         self.written: dict[tuple[str, Any], Any] = {}
+        self.unknowns: dict[str, Any] = {}    # written by a synchronised action (syncact.py)
         self.noted: set[str] = set()
         self.uifr: dict[int, Frame] = {}
         self.ifr: Frame = sysframes.NEUTRAL      # the active settable frame ($P_IFRAME)
@@ -173,6 +174,8 @@ class Nck:
                 return a
             if a.startswith("AX") and a[2:].isdigit() and 1 <= int(a[2:]) <= len(names):
                 return names[int(a[2:]) - 1]
+            if a.startswith("SP") and a[2:].isdigit() and int(a[2:]) in self.control.spindles:
+                return a                # a spindle as a machine axis (SPI(1) = SP1)
             if (m := MACHINE_AXIS.match(a)) and m.group(1) in self.machine.specs:
                 return m.group(1)       # the machine axis X1 of channel axis X (MD 10000's names)
             if not self.control.strict_axes and LOOSE_AXIS.match(a):
@@ -235,7 +238,16 @@ class Nck:
         if name == "$AC_TIMER":
             value, since = self.timers.get(idx[0], (0.0, None))
             return value if since is None else value + self.clock.now() - since
-        return self.written.get((name, idx[0] if idx else ()), var.default)
+        got = self.written.get((name, idx[0] if idx else ()), _MISSING)
+        if got is not _MISSING:
+            return got
+        return self.unknowns.get(name, var.default)
+
+    def unknown(self, name: str, value: Any) -> None:
+        """Every element of ``name`` (``$AC_MARKER``) holds ``value`` (a ``syncact.Unknown``:
+        a synchronised action may write it) until the program writes the element anew."""
+        self.written = {k: v for k, v in self.written.items() if k[0] != name}
+        self.unknowns[name] = value
 
     def _tool(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
         got = self.written.get((var.name, idx), _MISSING)

@@ -41,3 +41,58 @@ def test_machine_data_indexed_by_machine_axis_names(tmp_path):
     assert check(tmp_path, text, MILL3) == []
     e = error_of(run(tmp_path, "R1=$MA_MAX_AX_VELO[B1]\nM30\n", MILL3))
     assert (e.kind, e.line) == ("unknown_axis", 1)
+
+
+def test_interrupt_routines_are_assigned_but_never_started(tmp_path):
+    # Job planning, "Interrupt routine": SETINT(3) PRIO=1 LIFT_OFF assigns the routine to fast
+    # input 3; vmach's inputs stay 0, so the routine never runs and the program goes on
+    text = ("N10 SETINT(3) PRIO=1 LIFT_OFF LIFTFAST\nN20 ENABLE(3)\nN30 G0 X10 Y0 Z50\nN40 DISABLE(3)\n"
+            "N50 CLRINT(3)\nN60 M30\n")
+    assert check(tmp_path, text, MILL3) == []
+    r = ok(tmp_path, text, MILL3)
+    assert [m.axes["X"] for m in moves(r)] == [10.0]
+    assert sorted((f.kind, f.line, f.severity) for f in r.findings if f.data.get("command") in
+                  ("SETINT", "ENABLE", "DISABLE", "CLRINT")) == [
+        ("no_effect", 1, "info"), ("no_effect", 2, "info"), ("no_effect", 4, "info"),
+        ("no_effect", 5, "info")]
+
+
+SYNC = """N10 DEF REAL _V
+N20 G0 X0 Y0 Z50
+N30 ID=1 WHENEVER $AA_IM[Z]<-10 DO $R10=1 M8 H2=5
+N40 ID=2 WHEN $AC_TIME>5 DO $AC_MARKER[2]=$AC_MARKER[2]+1
+N50 G1 X20 F1000
+N60 STOPRE
+"""
+
+
+def test_a_synchronised_action_writing_variables_is_accepted_and_its_variables_unknown(tmp_path):
+    # Job planning, "Motion-synchronous actions": an action that writes variables or outputs
+    # auxiliary functions leaves the path alone; vmach does not evaluate it, and says so
+    text = SYNC + "N70 R10=0\nN80 G1 X=R10+30\nN90 CANCEL(1)\nN100 M30\n"
+    assert check(tmp_path, text, MILL3) == []
+    r = ok(tmp_path, text, MILL3)
+    assert [m.axes["X"] for m in moves(r)] == [0.0, 20.0, 30.0]      # R10 written anew: known again
+    notes = [(f.kind, f.line, f.severity, tuple(f.data["writes"])) for f in r.findings
+             if f.kind == "synchronized_action"]
+    assert notes == [("synchronized_action", 3, "info", ("R10",)),
+                     ("synchronized_action", 4, "info", ("$AC_MARKER",))]
+
+
+def test_reading_a_variable_a_synchronised_action_writes_is_unsupported(tmp_path):
+    for tail, line in (("N70 G1 X=R10*5\nN80 M30\n", 7), ("N70 _V=R10\nN80 M30\n", 7),
+                       ("N70 IF $AC_MARKER[2]>0\nN80 M0\nN90 ENDIF\nM30\n", 7)):
+        e = error_of(run(tmp_path, SYNC + tail, MILL3))
+        assert (e.kind, e.line) == ("unsupported", line)
+    e = error_of(run(tmp_path, SYNC + "N70 R1=$AC_MARKER[1]\nN75 $AC_MARKER[2]=4\nN80 G0 X=$AC_MARKER[2]+R1\n"
+                     "N90 MSG(\"R10=\"<<R10)\nM30\n", MILL3))
+    assert (e.kind, e.line) == ("unsupported", 7)                   # $AC_MARKER[1] as well
+
+
+def test_a_synchronised_action_that_moves_or_stops_is_unsupported_naming_it(tmp_path):
+    for action, col in (("POS[X]=100 FA[X]=500", 25), ("M5", 25), ("DELDTG", 25), ("$R1=2 SPOS=0", 31)):
+        text = f"N10 G0 X0 Y0 Z50\nN20 WHEN $AA_IW[Z]<5 DO {action}\nN30 G1 Z0 F100\nM30\n"
+        found = [(f.kind, f.line, f.source.column) for f in check(tmp_path, text, MILL3)]
+        assert found == [("unsupported", 2, col)], action
+        e = error_of(run(tmp_path, text, MILL3))
+        assert (e.kind, e.line) == ("unsupported", 2)
