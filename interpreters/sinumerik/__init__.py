@@ -37,7 +37,7 @@ def check(path: str | Path, control: ControlSpec = DEFAULT_CONTROL) -> list[Find
     archived = frozenset(loaded.archive)
     findings = list(loaded.findings) + list(definitions.load(p, str(path), control).findings)
     findings += _names(loaded.program, p.resolve().parent, control, archived)
-    for text in loaded.archive.values():
+    for text in [*loaded.archive.values(), *(d.text for d in loaded.data)]:
         other = read_program(p, str(path), control, text)
         findings += other.findings + _names(other.program, p.resolve().parent, control, archived)
     return sorted(findings, key=sort_key)

@@ -29,7 +29,7 @@ from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
 from vmach.errors import ProgramError
 from vmach.files import contained, decode_text, read_program_bytes
-from vmach.findings import Finding, warning
+from vmach.findings import Finding, info, warning
 from vmach.source import SourceRef
 
 PROGRAM_SUFFIXES = (".SPF", ".MPF")
@@ -41,6 +41,7 @@ class Loaded:
     findings: list[Finding]
     ops: list[Callable[[], int]] | None = None
     archive: dict[str, str] = field(default_factory=dict)  # later programs of its file (archive.py)
+    data: tuple = ()            # archive.DataSection: its file's _INI sections, run before it
 
 
 @dataclass(slots=True)
@@ -67,7 +68,8 @@ def read_program(path: Path, display: str, control: ControlSpec, text: str | Non
     program = parse_program(main, display, control, program_names(path.resolve().parent) | frozenset(others),
                             known=gud.variables, known_macros=gud.macros)
     findings = notes + list(program.findings) + analyse(program)
-    return Loaded(program, findings, archive=others)
+    data = tuple(archive.data_sections(text)) if "%" in text else ()
+    return Loaded(program, findings, archive=others, data=data)
 
 
 def _entry(directory: Path, name: str) -> Path | None:
@@ -175,6 +177,7 @@ class Interpreter:
             self.define_globals()
             main = self.load(self.path, display)
             self.push(main, SourceRef(display, 1), [])
+            self.push_data(main, display)
             self.loop()
             completed = True
         except ProgramError as exc:
@@ -201,6 +204,18 @@ class Interpreter:
                     self.setter(target)(compile_expr(node, env)())
                 except EvalError as exc:
                     raise ProgramError(exc.kind, exc.message, src) from None
+
+    def push_data(self, main: Loaded, display: str) -> None:
+        """The ``_INI`` sections of the program's file (an archive), run before it in file order,
+        as the control has loaded them when the archive was read in (archive.data_sections)."""
+        for d in reversed(main.data):
+            for line, what in d.skipped:
+                self.findings.append(info("archive_section", f"{d.name}: {what} not loaded (vmach simulates "
+                                          "channel 1 and takes machine data from the machine model)",
+                                          SourceRef(display, line), section=d.name))
+            loaded = read_program(self.path, display, self.control, d.text)
+            self.findings.extend(f for f in loaded.findings if f.severity != "info")
+            self.push(loaded, SourceRef(display, d.line), [])
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:

@@ -96,3 +96,53 @@ def test_a_synchronised_action_that_moves_or_stops_is_unsupported_naming_it(tmp_
         assert found == [("unsupported", 2, col)], action
         e = error_of(run(tmp_path, text, MILL3))
         assert (e.kind, e.line) == ("unsupported", 2)
+
+
+SETUP_ARC = """%_N_SETUP_MPF
+;$PATH=/_N_WKS_DIR/_N_SETUP_WPD
+G17 G90 G54 T1 D1
+G0 X0 Y0 Z=R1
+G1 Z=-$TC_DP3[1,1]/10 F200
+G0 X=SAFE_X
+M30
+%_N_SETUP_UFR_INI
+CHANDATA(1)
+$P_UIFR[1]=CTRANS(X,100,Y,50,Z,-20)
+M17
+%_N_SETUP_RPA_INI
+CHANDATA(1)
+R1=25.5
+$MC_CHAN_NAME="CHAN1"
+CHANDATA(2)
+R1=99
+M17
+%_N_SETUP_TOA_INI
+CHANDATA(1)
+$TC_DP1[1,1]=120
+$TC_DP3[1,1]=80.0
+$TC_DP6[1,1]=5.0
+M17
+%_N_UGUD_DEF
+;$PATH=/_N_DEF_DIR
+DEF NCK REAL SAFE_X=-40
+M30
+"""
+
+
+def test_an_archive_loads_its_initialisation_and_definition_sections_first(tmp_path):
+    # Operating Manual, archives: the _INI sections (zero offsets, R parameters, tool offsets)
+    # are loaded into the NCK when the archive is read in, the _DEF sections define the GUD
+    assert [(f.kind, f.line) for f in check(tmp_path, SETUP_ARC, MILL3, name="SETUP.ARC")] == []
+    r = ok(tmp_path, SETUP_ARC, MILL3, name="SETUP.ARC")
+    got = [(m.axes["X"], m.axes["Y"], m.axes["Z"], m.source.line) for m in moves(r)]
+    assert got == [(100.0, 50.0, 5.5, 4), (100.0, 50.0, -28.0, 5), (60.0, 50.0, -28.0, 6)]
+    notes = sorted((f.kind, f.line, f.severity) for f in r.findings if f.kind == "archive_section")
+    assert notes == [("archive_section", 15, "info"), ("archive_section", 16, "info")]
+
+
+def test_an_error_in_an_initialisation_section_is_found_at_its_line(tmp_path):
+    text = SETUP_ARC.replace("$TC_DP6[1,1]=5.0", "$TC_DP6[1,1]=5.0 Q7")
+    found = [(f.kind, f.line) for f in check(tmp_path, text, MILL3, name="SETUP.ARC")]
+    assert found == [("unknown_word", 23)]
+    e = error_of(run(tmp_path, text, MILL3, name="SETUP.ARC"))
+    assert e.line == 23
