@@ -13,6 +13,7 @@ from interpreters import dialect_for, sinumerik
 from vmach.machine.loader import load_model_control
 
 MILL3 = load_model_control(MODELS / "mill3.toml")
+TURNMILL = load_model_control(MODELS / "turnmill.toml")
 
 
 def test_programs_named_as_the_control_names_them_are_called(tmp_path):
@@ -146,3 +147,23 @@ def test_an_error_in_an_initialisation_section_is_found_at_its_line(tmp_path):
     assert found == [("unknown_word", 23)]
     e = error_of(run(tmp_path, text, MILL3, name="SETUP.ARC"))
     assert e.line == 23
+
+
+def test_dwell_in_revolutions_of_a_named_spindle(tmp_path):
+    # Fundamentals, "Dwell time": G4 S<n>=… waits that many revolutions of spindle n; the S
+    # of a G4 block is no new speed
+    text = "SETMS(1)\nS1=600 M1=3\nG4 S1=10\nG4 S=5\nM30\n"
+    r = ok(tmp_path, text, MILL3)
+    dwells = [(c.seconds, c.revolutions, c.source.line) for c in r.commands if c.kind == "dwell"]
+    assert dwells == [(None, 10.0, 3), (None, 5.0, 4)]
+    assert [c.speed for c in r.commands if c.kind == "spindle"] == [600.0]
+    e = error_of(run(tmp_path, "S1=600 M1=3\nG4 S2=10\nM30\n", TURNMILL))
+    assert (e.kind, e.line) == ("invalid_value", 2)
+    r = ok(tmp_path, "S1=600 M1=3 S2=1200 M2=3\nG4 S2=10\nM30\n", TURNMILL)
+    assert [(c.seconds, c.revolutions) for c in r.commands if c.kind == "dwell"] == [(0.5, None)]
+
+
+def test_channel_state_a_service_program_reads(tmp_path):
+    text = "R1=$AC_OVR R2=$AA_OVR[Y] R3=$AC_STAT R4=$AC_PROG\nG0 X=R1 Y=R2 Z=R3*10+R4\nM30\n"
+    assert check(tmp_path, text, MILL3) == []
+    assert moves(ok(tmp_path, text, MILL3))[-1].axes == {"X": 100.0, "Y": 100.0, "Z": 22.0}
