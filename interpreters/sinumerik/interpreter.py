@@ -286,6 +286,12 @@ class Interpreter:
                     if count > limit:
                         blk = level.loaded.program.blocks[pc]
                         self.blocks = count - 1
+                        if (waited := self.nck.waited_on(count)) is not None:
+                            raise ProgramError(
+                                "unsupported", f"the program waits on {waited[0]} (read {waited[1]} times "
+                                f"in {limit} blocks), PLC data or an input the machine sets; vmach does not "
+                                "simulate the PLC (it reads what the model or setup gives, else 0)",
+                                self.src(level, blk), limit=limit, variable=waited[0])
                         raise ProgramError(
                             "block_limit",
                             f"stopped after {limit} blocks (--max-blocks); "

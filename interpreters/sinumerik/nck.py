@@ -68,6 +68,7 @@ class Nck:
         self.src = SourceRef("<program>", 1)
         self.written: dict[tuple[str, Any], Any] = {}
         self.unknowns: dict[str, Any] = {}    # written by a synchronised action (syncact.py)
+        self.plc_reads: dict[tuple, int] = {}   # (name, index) -> reads of PLC data and inputs
         self.noted: set[str] = set()
         self.uifr: dict[int, Frame] = {}
         self.ifr: Frame = sysframes.NEUTRAL      # the active settable frame ($P_IFRAME)
@@ -81,7 +82,7 @@ class Nck:
         self.timers: dict[int, tuple[float, float | None]] = {}   # n -> (value, started at s)
         self.read_kind = {
             "machine_data": self._data, "setting_data": self._data, "swivel": self._data,
-            "plc": self._data, "program": self._program, "frame": self._frame,
+            "plc": self._plc, "program": self._program, "frame": self._frame,
             "main_run": self._main_run, "tool": self._tool,
         }
         self.programs: dict[str, Callable[[SysVar, tuple], Any]] = {
@@ -209,6 +210,22 @@ class Nck:
                                       f"[machine_data]; read as the control's default {var.default!r}",
                                       src, name=var.name))
         return var.default
+
+    def _plc(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
+        key = (var.name, idx)
+        self.plc_reads[key] = self.plc_reads.get(key, 0) + 1
+        return self._data(var, idx, src)
+
+    def waited_on(self, blocks: int) -> tuple[str, int] | None:
+        """(name, reads) of the PLC datum or input the program read most, when it read it in
+        at least one block of 20 of the ``blocks`` run: a program that waits for the PLC or an
+        input (``WHILE $A_DBB[11]==0``), which on vmach never changes."""
+        if not self.plc_reads:
+            return None
+        (name, idx), count = max(self.plc_reads.items(), key=lambda kv: kv[1])
+        if count * 20 < blocks:
+            return None
+        return (f"{name}[{', '.join(map(str, idx))}]" if idx else name), count
 
     def _program(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
         return self.programs[var.name](var, idx)

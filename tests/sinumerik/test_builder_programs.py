@@ -10,6 +10,7 @@ from catalog import MODELS
 from nc import check, error_of, moves, ok, run
 
 from interpreters import dialect_for, sinumerik
+from vmach.canon import RunOptions
 from vmach.machine.loader import load_model_control
 
 MILL3 = load_model_control(MODELS / "mill3.toml")
@@ -167,3 +168,15 @@ def test_channel_state_a_service_program_reads(tmp_path):
     text = "R1=$AC_OVR R2=$AA_OVR[Y] R3=$AC_STAT R4=$AC_PROG\nG0 X=R1 Y=R2 Z=R3*10+R4\nM30\n"
     assert check(tmp_path, text, MILL3) == []
     assert moves(ok(tmp_path, text, MILL3))[-1].axes == {"X": 100.0, "Y": 100.0, "Z": 22.0}
+
+
+def test_a_program_waiting_for_the_plc_stops_as_unsupported_naming_it(tmp_path):
+    # a builder's tool-clamp macro hands over to the PLC and waits for its acknowledgement
+    text = "N10 $A_DBB[10]=1\nN20 G4 F0.1\nN30 WHILE $A_DBB[11]==0\nN40 ENDWHILE\nN50 M30\n"
+    assert check(tmp_path, text, MILL3) == []
+    few = RunOptions(max_blocks=20000)
+    e = error_of(run(tmp_path, text, MILL3, few))
+    assert (e.kind, e.data["variable"]) == ("unsupported", "$A_DBB[11]")
+    assert e.line in (3, 4)
+    e = error_of(run(tmp_path, "N10 R1=R1+1\nN20 GOTOB N10\nM30\n", MILL3, few))  # no PLC: endless
+    assert e.kind == "block_limit"
