@@ -124,13 +124,19 @@ def _written(first, rest: list) -> str | None:
 
 
 def _output(first, rest: list) -> bool:
-    """True for an auxiliary function output to the PLC: ``M7``, ``H5=2``, ``H=…`` (an M that
-    acts on the spindle, tool or flow, or a spindle's ``M1=3``, is not)."""
+    """True for an auxiliary function output to the PLC: ``M7``, ``M=7``, ``M2=10``, ``H5=2``,
+    ``H=…`` (an M that acts on the spindle, tool or flow, ``M1=3``, or a computed M, is not)."""
     text = first.text
     if text.startswith("H") and (text[1:].isdigit() or text == "H"):
         return True
-    m = _M.match(text)
-    return m is not None and int(m.group(1)) not in _ACTING_M and not rest
+    if text != "M" and _M.match(text) is None:
+        return False
+    if not rest:                        # M7
+        return text != "M" and int(text[1:]) not in _ACTING_M
+    # M=7, M5=10 (the function for spindle 5): a constant the spindle does not act on
+    if len(rest) == 2 and rest[0].kind == OP and rest[0].text == "=" and rest[1].kind == NUM:
+        return float(rest[1].text) not in _ACTING_M
+    return False
 
 
 class Unknown:

@@ -61,7 +61,7 @@ def test_interrupt_routines_are_assigned_but_never_started(tmp_path):
 
 SYNC = """N10 DEF REAL _V
 N20 G0 X0 Y0 Z50
-N30 ID=1 WHENEVER $AA_IM[Z]<-10 DO $R10=1 M8 H2=5
+N30 ID=1 WHENEVER $AA_IM[Z]<-10 DO $R10=1 M8 H2=5 M1=10
 N40 ID=2 WHEN $AC_TIME>5 DO $AC_MARKER[2]=$AC_MARKER[2]+1
 N50 G1 X20 F1000
 N60 STOPRE
@@ -92,7 +92,8 @@ def test_reading_a_variable_a_synchronised_action_writes_is_unsupported(tmp_path
 
 
 def test_a_synchronised_action_that_moves_or_stops_is_unsupported_naming_it(tmp_path):
-    for action, col in (("POS[X]=100 FA[X]=500", 25), ("M5", 25), ("DELDTG", 25), ("$R1=2 SPOS=0", 31)):
+    for action, col in (("POS[X]=100 FA[X]=500", 25), ("M5", 25), ("DELDTG", 25), ("$R1=2 SPOS=0", 31),
+                        ("M1=3", 25), ("M=R1", 25), ("G0 X10", 25)):
         text = f"N10 G0 X0 Y0 Z50\nN20 WHEN $AA_IW[Z]<5 DO {action}\nN30 G1 Z0 F100\nM30\n"
         found = [(f.kind, f.line, f.source.column) for f in check(tmp_path, text, MILL3)]
         assert found == [("unsupported", 2, col)], action
