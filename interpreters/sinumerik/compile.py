@@ -224,7 +224,7 @@ def _nc(it: Running, program: b.Program, blk: b.Block, src: SourceRef) -> Callab
     positions: list = []    # the block's POS/POSA moves (commands.run_positions)
     steps = [(commands.step(it, x, src, positions), x.col) if isinstance(x, b.Command) else
              (commands.code_step(it, x.code, x.col, src), x.col)
-             if isinstance(x, b.GCode) and x.code.status == "accepted" else _step(it, x) for x in items]
+             if isinstance(x, b.GCode) and x.code.status == "accepted" else _step(it, x, src) for x in items]
     machine = it.machine
     general = _general_nc(it, blk, src, steps, items, cond, target, nxt, positions)
     simple = all(
@@ -263,7 +263,12 @@ def _nc(it: Running, program: b.Program, blk: b.Block, src: SourceRef) -> Callab
             machine.motion = code
         if not machine.straight(vals, src):
             machine.general_move(vals, src)
-        return target() if target is not None else nxt
+        ret = target() if target is not None else nxt
+        mc = it.modal_call
+        if mc is not None and len(it.stack) == mc[3]:
+            it.pending = (mc[0], mc[1], mc[2], 1, ret, "")
+            return CALL
+        return ret
 
     return straight_block
 
@@ -278,6 +283,7 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt, positions):
     )
 
     def nc():
+        modal = it.modal_call           # MCALL of a subprogram before this block (not made here)
         v = Values()
         if need_gcodes:
             v.gcodes = []
@@ -319,9 +325,12 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt, positions):
                 out.append(canon.ProgramEnd(src, code=end))
                 return STOP
             return END_LEVEL
-        if target is not None and (cond is None or cond()):
-            return target()
-        return nxt
+        ret = target() if target is not None and (cond is None or cond()) else nxt
+        if modal is not None and modal is it.modal_call and (v.axes or positions) \
+                and len(it.stack) == modal[3]:
+            it.pending = (modal[0], modal[1], modal[2], 1, ret, "")
+            return CALL
+        return ret
 
     return nc
 
@@ -352,7 +361,7 @@ def _item_kind(item) -> str:
     return "other"
 
 
-def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
+def _step(it: Running, item, src: SourceRef) -> tuple[Callable[[Values], None], int]:
     env = it.env
     col = item.col
     if isinstance(item, b.Assign):
@@ -455,7 +464,22 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
         targets = [_ref_target(a) for a in item.args]
         name, how = item.name, item.how
         if item.cycle:
+            if name.startswith("MCALL"):    # MCALL alone or of a cycle ends a subprogram's MCALL
+
+                def modal_cycle(v):
+                    it.modal_call = None
+                    v.cycles.append((name, [g() if g else None for g in fs]))
+
+                return modal_cycle, col
             return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
+        if how == "MCALL":                  # MCALL NAME(args): called after each block that moves
+
+            def modal_sub(v):
+                it.machine.mcall = None
+                it.modal_call = (name, [((g() if g else None), None) for g in fs], src.at(col),
+                                 len(it.stack))
+
+            return modal_sub, col
         if how == "CALL_VAR":       # CALL PNAME: the program the STRING variable names
             get = fs[0]
 

@@ -150,6 +150,7 @@ class Interpreter:
         self.loaded: dict[str, Loaded] = {}
         self.stack: list[Level] = []
         self.pending: tuple | None = None
+        self.modal_call: tuple | None = None   # MCALL NAME: called after each block that moves
         self.blocks = 0
         self.archive: dict[str, tuple] = {}  # name -> (file, display, text): later programs of a file
         self.recorder = Recorder()      # commands without effect on geometry (no_effect infos)
@@ -262,6 +263,8 @@ class Interpreter:
             level.pc = level.start
             return True
         self.stack.pop()
+        if self.modal_call is not None and len(self.stack) < self.modal_call[3]:
+            self.modal_call = None          # the level that made the call modal has ended
         if level.saved is not None:
             self.machine.restore(level.saved, src)
         if self.stack:

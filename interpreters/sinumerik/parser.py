@@ -552,13 +552,19 @@ class BlockParser:
 
     def modal_call(self, t: Token) -> b.Call:
         """``MCALL CYCLE81(...)`` (a drilling cycle called after every following positioning
-        block) or ``MCALL`` alone (off): a cycle call named ``MCALL`` / ``MCALL CYCLE81``."""
+        block) or ``MCALL`` alone (off): a cycle call named ``MCALL`` / ``MCALL CYCLE81``;
+        ``MCALL L10`` / ``MCALL NAME(args)`` of a subprogram: a call with ``how`` "MCALL"."""
         if self.tok.kind == END:
             return b.Call(t.col, "MCALL", (), cycle=True)
         target = self.tok
+        if target.kind == IDENT and target.text in self.g.programs:   # MCALL L10 / MCALL NAME(args)
+            self.pos += 1
+            args = self.arguments() if self.is_op("(") else ()
+            return b.Call(target.col, target.text, tuple(args), how="MCALL")
         if target.kind != IDENT or not self.is_op("(", 1) or target.text not in {*DRILLING, *MODAL_CYCLES}:
             self.fail("unsupported", "MCALL is simulated for the drilling, boring and tapping cycles "
-                      f"({', '.join(sorted({*DRILLING, *MODAL_CYCLES}))}) only", target.col)
+                      f"({', '.join(sorted({*DRILLING, *MODAL_CYCLES}))}) and the subprograms beside the "
+                      "program only", target.col)
         self.pos += 1
         call = self.call_with_args(target)
         return b.Call(t.col, f"MCALL {call.name}", call.args, cycle=True)

@@ -27,6 +27,7 @@ class Running(Protocol):
     out: list                 # canonical commands (vmach.canon), in order
     stack: list               # interpreter.Level, innermost last
     pending: tuple | None     # the call a block asks for (compile.CALL)
+    modal_call: tuple | None  # MCALL of a subprogram: (name, args, source, stack depth)
     recorder: Any             # commands.Recorder: commands without geometric effect
     sandbox: Any              # sandbox.Sandbox: the run's in-memory files
 

@@ -181,3 +181,23 @@ def test_a_program_waiting_for_the_plc_stops_as_unsupported_naming_it(tmp_path):
     assert e.line in (3, 4)
     e = error_of(run(tmp_path, "N10 R1=R1+1\nN20 GOTOB N10\nM30\n", MILL3, few))  # no PLC: endless
     assert e.kind == "block_limit"
+
+
+def test_modal_subprogram_call(tmp_path):
+    # Fundamentals, "Modal subprogram call": MCALL NAME(args) calls the subprogram after every
+    # block that moves an axis, with the values of the MCALL block; MCALL alone ends it; the
+    # subprogram's own moves do not call it again
+    spot = "PROC SPOT(REAL _D)\nG1 Z=-_D F100\nG0 Z5\nM17\n"
+    text = "N10 G17 G90 G54\nN20 G0 X0 Y0 Z50\nN30 MCALL SPOT(2)\nN40 X10 Y10\nN50 R1=3\nN60 G0 X20\n" \
+           "N70 MCALL\nN80 X30\nN90 M30\n"
+    assert check(tmp_path, text, MILL3, SPOT_DOT_SPF=spot) == []
+    r = ok(tmp_path, text, MILL3, SPOT_DOT_SPF=spot)
+    got = [(m.axes["X"], m.axes["Z"], m.source.path.rsplit("/", 1)[-1], m.source.line) for m in moves(r)]
+    assert got == [(0.0, 50.0, "TEST.MPF", 2), (10.0, 50.0, "TEST.MPF", 4), (10.0, -2.0, "SPOT.SPF", 2),
+                   (10.0, 5.0, "SPOT.SPF", 3), (20.0, 5.0, "TEST.MPF", 6), (20.0, -2.0, "SPOT.SPF", 2),
+                   (20.0, 5.0, "SPOT.SPF", 3), (30.0, 5.0, "TEST.MPF", 8)]
+    # L-numbered subprogram without parameters; a drilling cycle's MCALL ends it too
+    r = ok(tmp_path, "G0 X0 Y0 Z50\nMCALL L10\nX5\nMCALL CYCLE81(5,0,1,-1)\nMCALL\nX6\nM30\n", MILL3,
+           L10_DOT_SPF="G1 Z40 F100\nG0 Z50\nM17\n")
+    assert [(m.axes["X"], m.axes["Z"]) for m in moves(r)] == [(0.0, 50.0), (5.0, 50.0), (5.0, 40.0),
+                                                                (5.0, 50.0), (6.0, 50.0)]
