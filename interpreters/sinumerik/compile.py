@@ -444,6 +444,12 @@ def _step(it: Running, item, src: SourceRef) -> tuple[Callable[[Values], None], 
     if isinstance(item, b.Builtin):
         fs = [compile_expr(a, env) if a is not None else None for a in item.args]
         name = item.name
+        if name == "RET":                   # RET("LABEL", …): where the caller goes on (interpreter.ret)
+
+            def ret_to(v):
+                it.ret_to = (tuple(f() if f is not None else None for f in fs), src.at(col))
+
+            return ret_to, col
         if name == "SETMS":
 
             def setms(v):

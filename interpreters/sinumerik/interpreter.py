@@ -151,6 +151,7 @@ class Interpreter:
         self.stack: list[Level] = []
         self.pending: tuple | None = None
         self.modal_call: tuple | None = None   # MCALL NAME: called after each block that moves
+        self.ret_to: tuple | None = None       # RET(target, …) of the level that ends
         self.blocks = 0
         self.archive: dict[str, tuple] = {}  # name -> (file, display, text): later programs of a file
         self.recorder = Recorder()      # commands without effect on geometry (no_effect infos)
@@ -334,6 +335,33 @@ class Interpreter:
                 self.out.append(canon.ProgramEnd(src, code="EOF"))
             if not self.pop(src):
                 return
+            if self.ret_to is not None:
+                self.return_to()
+
+    def return_to(self) -> None:
+        """``RET(target, after, levels, to start)`` (Fundamentals, "Parameterizable subprogram
+        return jump"): ``levels`` program levels end (1 the default), and the program returned
+        to goes on at the target block (a label or block number, searched as GOTO searches from
+        its calling block) or the block after it (``after`` 1)."""
+        (target, *rest), src = self.ret_to  # type: ignore[misc]
+        self.ret_to = None
+        after, levels, start = (list(rest) + [None, None, None])[:3]
+        if start:
+            raise ProgramError("unsupported", "RET(…, TRUE): a return to the program's start is not "
+                               "simulated", src)
+        levels = 1 if levels is None else int(levels)
+        if not 1 <= levels <= len(self.stack):
+            raise ProgramError("invalid_value", f"RET: {levels} return levels, {len(self.stack)} remain", src)
+        for _ in range(levels - 1):
+            self.pop(src)
+        level = self.stack[-1]
+        program = level.loaded.program
+        at = program.blocks[max(level.pc - 1, 0)] if program.blocks else None
+        tgt = dynamic_target(program, at, b.Jump("GOTO", "", None, src.column), target) if at else None
+        if tgt is None:
+            raise ProgramError("undefined_label", f"RET: no destination {target!r} in "
+                               f"{program.name or program.path}", src)
+        level.pc = tgt + (1 if after else 0)
 
     def src(self, level: Level, blk: b.Block, col: int = 1) -> SourceRef:
         return SourceRef(level.loaded.program.path, blk.line, col, blk.text)
@@ -432,14 +460,19 @@ class Interpreter:
         """A closure giving the landing index, or raising the control's alarm when missing."""
         if jump.variable:                         # GOTOF DEST: DEST's value at run time
             env, name, source = self.env, jump.target, SourceRef(program.path, blk.line, jump.col, blk.text)
+            get = compile_expr(jump.expr, env) if jump.expr is not None else (lambda: env.vars[name])
 
             def variable():
-                tgt = dynamic_target(program, blk, jump, env.vars[name])
+                try:
+                    value = get()
+                except EvalError as exc:
+                    raise ProgramError(exc.kind, exc.message, source) from None
+                tgt = dynamic_target(program, blk, jump, value)
                 if tgt is None:
                     if jump.how == "GOTOC":
                         return blk.index + 1
                     raise ProgramError("undefined_label", f"{jump.how} {name}: no destination "
-                                       f"{env.vars[name]!r}", source)
+                                       f"{value!r}", source)
                 return tgt
 
             return variable

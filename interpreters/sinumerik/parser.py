@@ -239,6 +239,12 @@ class BlockParser:
         elif name == "RET":
             block.kind = "nc"
             block.items.append(b.Keyword(t.col, "RET"))
+            if self.is_op("("):     # RET(target, after, levels, to start): where the caller goes on
+                args = self.arguments()
+                if not args or args[0] is None or len(args) > 4:
+                    self.fail("syntax", "RET(target block, block after it, levels, to start) needs the "
+                              "target", t.col)
+                block.items.append(b.Builtin(t.col, "RET", tuple(args)))
             self.expect_end("RET")
         elif name == "CALL" and self.tok.kind == IDENT and self.tok.text == "BLOCK":
             self.pos += 1
@@ -307,6 +313,9 @@ class BlockParser:
             if m:
                 return b.Jump(t.text, tgt.text, int(m.group(1)), tgt.col)
             return b.Jump(t.text, tgt.text, None, tgt.col)
+        if (tgt.kind == OP and tgt.text == "(") or (tgt.kind == STR and self.is_op("<<", 1)):
+            node = self.expr()                    # GOTOF ("LB"<<R1): a destination computed at run time
+            return b.Jump(t.text, "(expression)", None, tgt.col, variable=True, expr=node)
         if tgt.kind == STR:
             self.pos += 1
             return b.Jump(t.text, tgt.value.upper(), None, tgt.col)

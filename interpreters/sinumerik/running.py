@@ -28,6 +28,7 @@ class Running(Protocol):
     stack: list               # interpreter.Level, innermost last
     pending: tuple | None     # the call a block asks for (compile.CALL)
     modal_call: tuple | None  # MCALL of a subprogram: (name, args, source, stack depth)
+    ret_to: tuple | None      # RET(target, after, levels, to start): (values, source)
     recorder: Any             # commands.Recorder: commands without geometric effect
     sandbox: Any              # sandbox.Sandbox: the run's in-memory files
 

@@ -201,3 +201,30 @@ def test_modal_subprogram_call(tmp_path):
            L10_DOT_SPF="G1 Z40 F100\nG0 Z50\nM17\n")
     assert [(m.axes["X"], m.axes["Z"]) for m in moves(r)] == [(0.0, 50.0), (5.0, 50.0), (5.0, 40.0),
                                                                 (5.0, 50.0), (6.0, 50.0)]
+
+
+def test_computed_jump_destination(tmp_path):
+    # Job planning, "Program jumps to jump markers": the destination may be a STRING expression
+    text = ("N10 DEF INT _K='H25' B_AND 'B111'\nN20 IF _K==5 GOTOF (\"LB\"<<_K)\nN30 G0 X1\n"
+            "N40 LB5: G0 X=_K\nN50 GOTOF \"N\"<<10*R9+60\nN60 G0 Y3\nN70 M30\n")
+    assert check(tmp_path, text, MILL3) == []
+    assert [(m.axes["X"], m.source.line) for m in moves(ok(tmp_path, text, MILL3))] == [(5.0, 4), (5.0, 6)]
+    e = error_of(run(tmp_path, text.replace("GOTOF (\"LB\"<<_K)", "GOTOF (\"LX\"<<_K)"), MILL3))
+    assert (e.kind, e.line) == ("undefined_label", 2)
+
+
+def test_parameterised_return_from_a_subprogram(tmp_path):
+    # Fundamentals, "Parameterizable subprogram return jump": RET("label") goes on at the label
+    # of the caller, RET(target, 1) at the block after it, RET(target, 0, 2) two levels up
+    sub = "G0 Y7\nRET(\"BACK\")\n"
+    text = "N10 G0 X0 Y0 Z50\nN20 SUBR\nN30 G0 X1\nN40 BACK: G0 X2\nN50 G0 X3\nN60 M30\n"
+    assert check(tmp_path, text, MILL3, SUBR_DOT_SPF=sub) == []
+    got = [(m.axes["X"], m.source.line) for m in moves(ok(tmp_path, text, MILL3, SUBR_DOT_SPF=sub))]
+    assert got == [(0.0, 1), (0.0, 1), (2.0, 4), (3.0, 5)]
+    r = ok(tmp_path, text, MILL3, SUBR_DOT_SPF="G0 Y7\nRET(\"N40\", 1)\n")
+    assert [m.source.line for m in moves(r)] == [1, 1, 5]
+    r = ok(tmp_path, text, MILL3, SUBR_DOT_SPF="INNER\nG0 Y8\nM17\n",
+           INNER_DOT_SPF="G0 Y9\nRET(\"BACK\",0,2)\n")
+    assert [(m.axes["Y"], m.source.line) for m in moves(r)] == [(0.0, 1), (9.0, 1), (9.0, 4), (9.0, 5)]
+    e = error_of(run(tmp_path, text, MILL3, SUBR_DOT_SPF="G0 Y7\nRET(\"NOWHERE\")\n"))
+    assert (e.kind, e.line) == ("undefined_label", 2)
