@@ -14,7 +14,7 @@ from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik import commands
 from interpreters.sinumerik.arrays import unravel
 from interpreters.sinumerik.execute import Values
-from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num
+from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num, scope_of
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -533,7 +533,8 @@ def _argument(node, env):
         return None
     if node.op == "var" and not node.args:
         name = node.value
-        return lambda: env.vars[name]
+        scope = scope_of(name, env)         # a GUD variable lives in the global scope
+        return lambda: scope.vars[name]
     return compile_expr(node, env)
 
 
