@@ -228,3 +228,10 @@ def test_parameterised_return_from_a_subprogram(tmp_path):
     assert [(m.axes["Y"], m.source.line) for m in moves(r)] == [(0.0, 1), (9.0, 1), (9.0, 4), (9.0, 5)]
     e = error_of(run(tmp_path, text, MILL3, SUBR_DOT_SPF="G0 Y7\nRET(\"NOWHERE\")\n"))
     assert (e.kind, e.line) == ("undefined_label", 2)
+
+
+def test_a_global_variable_passed_to_a_subprogram(tmp_path):
+    # a GUD variable as a call's argument (was a KeyError traceback)
+    r = ok(tmp_path, "SUB1(GFEED)\nM30\n", MILL3, SUB1_DOT_SPF="PROC SUB1(REAL _F)\nG1 X10 F=_F\nM17\n",
+           UGUD_DOT_DEF="DEF NCK REAL GFEED=1234\n")
+    assert [(m.axes["X"], m.feed) for m in moves(r)] == [(10.0, 1234.0)]
