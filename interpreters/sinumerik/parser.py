@@ -566,13 +566,15 @@ class BlockParser:
         if self.tok.kind == END:
             return b.Call(t.col, "MCALL", (), cycle=True)
         target = self.tok
-        if target.kind == IDENT and target.text in self.g.programs:   # MCALL L10 / MCALL NAME(args)
+        simulated = {*DRILLING, *MODAL_CYCLES}
+        if target.kind == IDENT and target.text in self.g.programs and target.text not in simulated:
+            # MCALL L10 / MCALL NAME(args): a subprogram (a simulated cycle stays the cycle, as in a call)
             self.pos += 1
             args = self.arguments() if self.is_op("(") else ()
             return b.Call(target.col, target.text, tuple(args), how="MCALL")
-        if target.kind != IDENT or not self.is_op("(", 1) or target.text not in {*DRILLING, *MODAL_CYCLES}:
+        if target.kind != IDENT or not self.is_op("(", 1) or target.text not in simulated:
             self.fail("unsupported", "MCALL is simulated for the drilling, boring and tapping cycles "
-                      f"({', '.join(sorted({*DRILLING, *MODAL_CYCLES}))}) and the subprograms beside the "
+                      f"({', '.join(sorted(simulated))}) and the subprograms beside the "
                       "program only", target.col)
         self.pos += 1
         call = self.call_with_args(target)

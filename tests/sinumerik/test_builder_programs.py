@@ -235,3 +235,11 @@ def test_a_global_variable_passed_to_a_subprogram(tmp_path):
     r = ok(tmp_path, "SUB1(GFEED)\nM30\n", MILL3, SUB1_DOT_SPF="PROC SUB1(REAL _F)\nG1 X10 F=_F\nM17\n",
            UGUD_DOT_DEF="DEF NCK REAL GFEED=1234\n")
     assert [(m.axes["X"], m.feed) for m in moves(r)] == [(10.0, 1234.0)]
+
+
+def test_mcall_of_a_simulated_cycle_stays_the_cycle_with_a_file_of_its_name_beside(tmp_path):
+    # as a plain call of CYCLE81 does (drilling.py): a CYCLE81.SPF beside is not what MCALL runs
+    text = "G0 X0 Y0 Z50 F100\nMCALL CYCLE81(10,0,2,-5)\nX10\nMCALL\nM30\n"
+    own = "PROC CYCLE81(REAL A, REAL B, REAL C, REAL D)\nG0 Y99\nM17\n"
+    m = moves(ok(tmp_path, text, MILL3, CYCLE81_DOT_SPF=own))
+    assert {c.axes["Y"] for c in m} == {0.0} and min(c.axes["Z"] for c in m) == -5.0
