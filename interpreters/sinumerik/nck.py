@@ -103,6 +103,8 @@ class Nck:
             "$P_TOOLL": lambda v, i: self._active_dp(2 + i[0]) if 1 <= i[0] <= 3 else 0.0,
             "$P_AD": lambda v, i: self._active_dp(i[0]),
             "$P_NUM_SPINDLES": lambda v, i: len(machine.spindles),
+            "$P_TOOLEXIST": lambda v, i: int(self._edges(i[0]) > 0),
+            "$P_TOOLND": lambda v, i: self._edges(i[0]),
         }
 
     # -- compiling: closures for a read and a write -------------------------------------------
@@ -211,6 +213,17 @@ class Nck:
                                       src, name=var.name))
         return var.default
 
+    def _edges(self, tool: int) -> int:
+        """The cutting edges D1, D2 … the run's tool library gives tool number ``tool`` (0 when
+        the library does not hold it, or no library was given)."""
+        lookup = self.options.tool_data
+        if lookup is None or tool <= 0:
+            return 0
+        n = 0
+        while n < 12 and lookup(str(tool), n + 1) is not None:
+            n += 1
+        return n
+
     def _plc(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
         key = (var.name, idx)
         self.plc_reads[key] = self.plc_reads.get(key, 0) + 1
@@ -232,7 +245,9 @@ class Nck:
 
     def _main_run(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
         name = var.name
-        if name == "$AA_IM":
+        if name == "$AC_F":
+            return self._feed()
+        if name == "$AA_IM" or name == "$VA_IM":
             return self.machine.pos.get(idx[0], 0.0)
         if name == "$AA_IW":
             return self._work(idx[0])

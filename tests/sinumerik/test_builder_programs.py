@@ -243,3 +243,16 @@ def test_mcall_of_a_simulated_cycle_stays_the_cycle_with_a_file_of_its_name_besi
     own = "PROC CYCLE81(REAL A, REAL B, REAL C, REAL D)\nG0 Y99\nM17\n"
     m = moves(ok(tmp_path, text, MILL3, CYCLE81_DOT_SPF=own))
     assert {c.axes["Y"] for c in m} == {0.0} and min(c.axes["Z"] for c in m) == -5.0
+
+
+def test_state_a_tool_change_or_test_macro_reads(tmp_path):
+    # Lists of system variables: $P_TOOLEXIST / $P_TOOLND from the tool library, $VA_IM the
+    # encoder's actual value, $AC_F the path feed, $A_PROBE a probe's state; MD 32020/36200
+    tools = {("1", 1): {"radius": 5.0}, ("1", 2): {"radius": 4.0}, ("7", 1): {"radius": 2.0}}
+    opts = RunOptions(tool_data=lambda t, d: tools.get((t, d)))
+    text = ("G1 X5 Y2 F300\nR1=$P_TOOLEXIST[1]+$P_TOOLEXIST[3]*10 R2=$P_TOOLND[1]*10+$P_TOOLND[7]\n"
+            "R3=$VA_IM[X]+$AC_F+$A_PROBE[1] R4=$MA_JOG_VELO[Y1]+$MA_AX_VELO_LIMIT[0,AX1]\n"
+            "G0 X=R1 Y=R2 Z=R3+R4/1000\nM30\n")
+    assert check(tmp_path, text, MILL3) == []
+    r = run(tmp_path, text, MILL3, opts)
+    assert r.completed and moves(r)[-1].axes == {"X": 1.0, "Y": 21.0, "Z": 318.5}
