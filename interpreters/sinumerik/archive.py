@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from interpreters.sinumerik import sysvars
 from vmach.findings import Finding, info
 from vmach.source import SourceRef
 
@@ -100,48 +101,57 @@ _INI_FRAME = re.compile(r"^\s*(?:N\d+\s+)?(?:M17|M30|M0?2|RET|CHANDATA\s*\(\s*1\
 _INI_OTHER_CHANNEL = re.compile(r"^\s*(?:N\d+\s+)?CHANDATA\s*\(\s*(\d+)\s*\)", re.IGNORECASE)
 #: an assignment to machine data (``$MN_…``, ``$MC_…``, ``$MA_…``, ``$MM_…``)
 _INI_MACHINE_DATA = re.compile(r"^\s*(?:N\d+\s+)?\$M[NCAM]_", re.IGNORECASE)
+#: the system variable a block of an initialisation file assigns first
+_INI_SYSVAR = re.compile(r"^\s*(?:N\d+\s+)?(\$[A-Z_][A-Z0-9_]*)", re.IGNORECASE)
 
 
 @dataclass(frozen=True, slots=True)
 class DataSection:
     """An initialisation section (``%_N_RPA_INI``, ``_N_TOA_INI``, ``_N_UFR_INI`` …) as a program
     vmach runs before the archive's program: name and type as in :class:`Section`, text the
-    section's assignments (every other line empty), skipped (line, what) the blocks it leaves
-    out (machine data, another channel's data)."""
+    section's assignments (every other line empty), skipped (first line, what, blocks) the
+    blocks it leaves out, by what they hold."""
 
     name: str
     line: int
     text: str
-    skipped: tuple[tuple[int, str], ...]
+    skipped: tuple[tuple[int, str, int], ...]
 
 
 def data_sections(text: str) -> list[DataSection]:
     """The ``_INI`` sections of an archive: the data the control loads when the archive is read
     in (R parameters, tool offsets, zero offsets, setting and user data), in file order. The
     file's end (``M17``/``M30``) and ``CHANDATA(1)`` are left out (vmach simulates channel 1);
-    the data of another channel and machine data (which a program cannot write, and vmach takes
-    from the machine model) are left out and listed."""
+    the data of another channel, machine data (which a program cannot write, and vmach takes
+    from the machine model) and system data vmach does not keep (magazines …) are left out and
+    counted."""
     out = []
     for sec in sections(text):
         if sec.kind != "INI":
             continue
         lines = sec.text.splitlines()
-        skipped: list[tuple[int, str]] = []
-        other = False
+        skipped: dict[str, list[int]] = {}
+        other = ""
         for i, ln in enumerate(lines):
             if not ln:
                 continue
             m = _INI_OTHER_CHANNEL.match(ln)
+            what = None
             if m is not None:
-                other = int(m.group(1)) != 1
-                lines[i] = ""
-                if other:
-                    skipped.append((i + 1, f"the data of channel {m.group(1)}"))
+                other = m.group(1) if int(m.group(1)) != 1 else ""
             elif _INI_FRAME.match(ln):
-                lines[i] = ""
-            elif other or _INI_MACHINE_DATA.match(ln):
-                if not other:
-                    skipped.append((i + 1, "machine data"))
-                lines[i] = ""
-        out.append(DataSection(f"{sec.name}_{sec.kind}", sec.line, "\n".join(lines) + "\n", tuple(skipped)))
+                pass
+            elif other:
+                what = f"the data of channel {other}"
+            elif _INI_MACHINE_DATA.match(ln):
+                what = "machine data"
+            elif (v := _INI_SYSVAR.match(ln)) is not None and sysvars.lookup(v.group(1).upper()) is None:
+                what = "system data vmach does not keep"
+            else:
+                continue
+            lines[i] = ""
+            if what is not None:
+                skipped.setdefault(what, [i + 1, 0])[1] += 1
+        out.append(DataSection(f"{sec.name}_{sec.kind}", sec.line, "\n".join(lines) + "\n",
+                               tuple((first, what, n) for what, (first, n) in skipped.items())))
     return out

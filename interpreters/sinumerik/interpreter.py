@@ -211,10 +211,11 @@ class Interpreter:
         """The ``_INI`` sections of the program's file (an archive), run before it in file order,
         as the control has loaded them when the archive was read in (archive.data_sections)."""
         for d in reversed(main.data):
-            for line, what in d.skipped:
-                self.findings.append(info("archive_section", f"{d.name}: {what} not loaded (vmach simulates "
-                                          "channel 1 and takes machine data from the machine model)",
-                                          SourceRef(display, line), section=d.name))
+            for line, what, count in d.skipped:
+                self.findings.append(info("archive_section", f"{d.name}: {what} not loaded ({count} block(s) "
+                                          "from here; vmach simulates channel 1 and takes machine data from "
+                                          "the machine model)", SourceRef(display, line), section=d.name,
+                                          count=count))
             loaded = read_program(self.path, display, self.control, d.text)
             self.findings.extend(f for f in loaded.findings if f.severity != "info")
             self.push(loaded, SourceRef(display, d.line), [])

@@ -121,6 +121,8 @@ R1=99
 M17
 %_N_SETUP_TOA_INI
 CHANDATA(1)
+$TC_MPP1[1,1]=1
+$TC_MPP1[1,2]=1
 $TC_DP1[1,1]=120
 $TC_DP3[1,1]=80.0
 $TC_DP6[1,1]=5.0
@@ -139,16 +141,18 @@ def test_an_archive_loads_its_initialisation_and_definition_sections_first(tmp_p
     r = ok(tmp_path, SETUP_ARC, MILL3, name="SETUP.ARC")
     got = [(m.axes["X"], m.axes["Y"], m.axes["Z"], m.source.line) for m in moves(r)]
     assert got == [(100.0, 50.0, 5.5, 4), (100.0, 50.0, -28.0, 5), (60.0, 50.0, -28.0, 6)]
-    notes = sorted((f.kind, f.line, f.severity) for f in r.findings if f.kind == "archive_section")
-    assert notes == [("archive_section", 15, "info"), ("archive_section", 16, "info")]
+    notes = sorted((f.kind, f.line, f.severity, f.data["count"]) for f in r.findings
+                   if f.kind == "archive_section")
+    assert notes == [("archive_section", 15, "info", 1), ("archive_section", 17, "info", 1),
+                     ("archive_section", 21, "info", 2)]      # machine data, channel 2, magazine data
 
 
 def test_an_error_in_an_initialisation_section_is_found_at_its_line(tmp_path):
     text = SETUP_ARC.replace("$TC_DP6[1,1]=5.0", "$TC_DP6[1,1]=5.0 Q7")
     found = [(f.kind, f.line) for f in check(tmp_path, text, MILL3, name="SETUP.ARC")]
-    assert found == [("unknown_word", 23)]
+    assert found == [("unknown_word", 25)]
     e = error_of(run(tmp_path, text, MILL3, name="SETUP.ARC"))
-    assert e.line == 23
+    assert e.line == 25
 
 
 def test_dwell_in_revolutions_of_a_named_spindle(tmp_path):
