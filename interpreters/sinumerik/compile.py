@@ -11,10 +11,11 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import commands
+from interpreters.sinumerik import commands, endless
 from interpreters.sinumerik.arrays import unravel
 from interpreters.sinumerik.execute import Values
 from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num, scope_of
+from interpreters.sinumerik.structure import find_target
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -96,6 +97,8 @@ def compile_block(it: Running, program: b.Program, blk: b.Block) -> Callable[[],
         if blk.partner < 0:
             return unbalanced("ENDLOOP without LOOP")
         body = blk.partner + 1
+        if endless.no_way_out(program, blk.partner, i):    # a run-in loop until reset
+            return endless.back_jump(it, program, blk, body, src)
         return lambda: body
     if kind == "for":
         return _for(it, program, blk, src)
@@ -192,6 +195,10 @@ def _nc(it: Running, program: b.Program, blk: b.Block, src: SourceRef) -> Callab
     cond = compile_expr(blk.cond, env) if blk.cond is not None else None
     target = it.jump_target(program, blk, blk.jump) if blk.jump is not None else None
     items = blk.items
+    if not items and cond is None and blk.jump is not None and not blk.jump.variable:
+        back = find_target(program, blk.index, blk.jump)     # GOTOB START alone: until reset?
+        if back is not None and back <= blk.index and endless.no_way_out(program, back, blk.index):
+            return endless.back_jump(it, program, blk, back, src)
 
     if all(isinstance(x, b.Assign) for x in items):
         pairs = [(it.setter(x.target), compile_expr(x.expr, env), x.col) for x in items]

@@ -6,6 +6,7 @@ Programming Manuals' descriptions (Fundamentals; Job planning: "Flexible NC prog
 
 from __future__ import annotations
 
+import pytest
 from catalog import MODELS
 from nc import check, error_of, moves, ok, run
 
@@ -260,3 +261,31 @@ def test_state_a_tool_change_or_test_macro_reads(tmp_path):
     assert check(tmp_path, text, MILL3) == []
     r = run(tmp_path, text, MILL3, opts)
     assert r.completed and moves(r)[-1].axes == {"X": 1.0, "Y": 21.0, "Z": 318.5}
+
+
+RUN_IN = {
+    "GOTOB": ("N10 G0 X0 Y0 Z50\nN20 S2000 M3\nN30 START:\nN40 G1 X100 F3000\nN50 X0\nN60 GOTOB START\n"
+              "N70 M30\n", 6),
+    "LOOP": ("N10 G0 X0 Y0 Z50\nN20 S2000 M3\nN30 LOOP\nN40 G1 X100 F3000\nN50 X0\nN60 ENDLOOP\n"
+             "N70 M30\n", 6),
+}
+
+
+@pytest.mark.parametrize("how", sorted(RUN_IN))
+def test_a_run_in_program_that_repeats_until_reset_ends_when_a_pass_repeats(tmp_path, how):
+    # a run-in program loops until the operator resets the control: once a pass leaves the
+    # state as the pass before, every further pass moves the same; the run ends there
+    text, back = RUN_IN[how]
+    r = ok(tmp_path, text, MILL3)
+    assert [(m.axes["X"], m.source.line) for m in moves(r)] == [(0.0, 1)] + [(100.0, 4), (0.0, 5)] * 2
+    assert [(f.kind, f.line) for f in r.findings if f.severity == "warning"] == [("endless_program", back)]
+    assert [c.code for c in r.commands if c.kind == "program_end"] == ["RESET"]
+    assert [f.kind for f in check(tmp_path, text, MILL3) if f.severity == "error"] == []
+
+
+def test_a_loop_that_changes_the_state_or_has_a_way_out_is_no_endless_program(tmp_path):
+    few = RunOptions(max_blocks=5000)
+    e = error_of(run(tmp_path, "G0 X0 Y0 Z50\nLOOP\nR1=R1+1\nG1 X=R1/1000 F3000\nENDLOOP\nM30\n", MILL3, few))
+    assert e.kind == "block_limit"
+    text = "G0 X0 Y0 Z50\nLOOP\nG1 X5 F3000\nX0\nIF R1>0 GOTOF OUT\nENDLOOP\nOUT:\nM30\n"
+    assert error_of(run(tmp_path, text, MILL3, few)).kind == "block_limit"
