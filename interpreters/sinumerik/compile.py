@@ -86,6 +86,8 @@ def compile_block(it: Running, program: b.Program, blk: b.Block) -> Callable[[],
         if blk.partner < 0:
             return unbalanced("ENDWHILE without WHILE")
         back = blk.partner
+        if endless.no_way_out(program, back, i):           # WHILE TRUE: a run-in loop until reset
+            return endless.back_jump(it, program, blk, back, src)
         return lambda: back
     if kind == "until":
         if blk.partner < 0:

@@ -1,6 +1,6 @@
 """Programs that never end on their own: a warm-up or run-in program that repeats its blocks
-until the operator resets the control (``LOOP … ENDLOOP`` with no way out, or a bare
-``GOTOB START`` / ``GOTOS`` back over blocks with no way out).
+until the operator resets the control (``LOOP … ENDLOOP`` or ``WHILE TRUE … ENDWHILE`` with no
+way out, or a bare ``GOTOB START`` / ``GOTOS`` back over blocks with no way out).
 
 Such a program is valid on the control, but a run would stop at the block limit. For a loop
 that provably has no way out (:func:`no_way_out`: no block in it leaves it, ends the program
@@ -29,13 +29,18 @@ def no_way_out(program: b.Program, first: int, last: int) -> bool:
     """True when control, once in blocks ``first..last``, can never leave them: every block's
     static successors lie inside, and none ends the program or the level."""
     for i in range(first, last + 1):
-        nxt = successors(program, i)
+        blk = program.blocks[i]
+        nxt = [i + 1] if blk.kind == "while" and _always(blk.cond) else successors(program, i)
         if not nxt or any(not first <= s <= last for s in nxt):
             return False
-        blk = program.blocks[i]
         if any(isinstance(x, b.Keyword) and x.name == "RET" for x in blk.items):
             return False
     return True
+
+
+def _always(cond) -> bool:
+    """True for a condition that is a constant other than 0 (``WHILE TRUE``, ``WHILE 1``)."""
+    return cond is not None and cond.op == "num" and cond.value != 0
 
 
 def _state(it: Running) -> str:

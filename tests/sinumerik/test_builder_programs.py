@@ -268,6 +268,8 @@ RUN_IN = {
               "N70 M30\n", 6),
     "LOOP": ("N10 G0 X0 Y0 Z50\nN20 S2000 M3\nN30 LOOP\nN40 G1 X100 F3000\nN50 X0\nN60 ENDLOOP\n"
              "N70 M30\n", 6),
+    "WHILE": ("N10 G0 X0 Y0 Z50\nN20 S2000 M3\nN30 WHILE TRUE\nN40 G1 X100 F3000\nN50 X0\nN60 ENDWHILE\n"
+              "N70 M30\n", 6),
 }
 
 
