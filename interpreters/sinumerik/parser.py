@@ -62,6 +62,8 @@ class Grammar:
     def __init__(self, control: ControlSpec, programs: frozenset[str] = frozenset()):
         self.control = control
         self.axes = {a.name for a in control.axes} | set(control.geometry)
+        #: AX1, AX2 …: the machine axes by number (Fundamentals, "Axis identifiers")
+        self.numbered = {f"AX{k}": a.name for k, a in enumerate(control.axes, start=1)}
         self.strict = control.strict_axes
         self.cycles = control.cycles
         self.gcodes = control.gcodes
@@ -145,6 +147,10 @@ class BlockParser:
 
     def parse(self, block: b.Block, code: str) -> None:
         self.toks = tokenize(code, self.src, self.is_name)
+        if "AX" in code.upper():    # AX2=10, POS[AX3]: the machine axis of that number
+            numbered = self.g.numbered
+            self.toks = [Token(IDENT, numbered[t.text], t.col) if t.kind == IDENT and t.text in numbered
+                         and t.text not in self.variables else t for t in self.toks]
         self.pos = 0
         if self.is_op("/"):
             block.skip = True

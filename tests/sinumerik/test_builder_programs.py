@@ -291,3 +291,14 @@ def test_a_loop_that_changes_the_state_or_has_a_way_out_is_no_endless_program(tm
     assert e.kind == "block_limit"
     text = "G0 X0 Y0 Z50\nLOOP\nG1 X5 F3000\nX0\nIF R1>0 GOTOF OUT\nENDLOOP\nOUT:\nM30\n"
     assert error_of(run(tmp_path, text, MILL3, few)).kind == "block_limit"
+
+
+def test_machine_axes_by_number(tmp_path):
+    # Fundamentals, "Axis identifiers": AX1, AX2 … name the machine axes by number, in words,
+    # in brackets and in the approach to a fixed point
+    text = ('DEF AXIS _YY\n_YY=AXNAME("Y")\nG0 AX1=10 AX[_YY]=.20 AX3=50\nAX[AX3]=40\nPOS[AX2]=5\n'
+            "G75 FP=1 AX3=0\nM30\n")
+    assert check(tmp_path, text, MILL3) == []
+    assert [tuple(m.axes.values()) for m in moves(ok(tmp_path, text, MILL3))] == [
+        (10.0, 0.2, 50.0), (10.0, 0.2, 40.0), (10.0, 5.0, 40.0), (10.0, 5.0, 0.0)]
+    assert [(f.kind, f.line) for f in check(tmp_path, "G0 AX4=1\nM30\n", MILL3)] == [("unknown_word", 1)]
