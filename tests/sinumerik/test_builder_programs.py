@@ -302,3 +302,19 @@ def test_machine_axes_by_number(tmp_path):
     assert [tuple(m.axes.values()) for m in moves(ok(tmp_path, text, MILL3))] == [
         (10.0, 0.2, 50.0), (10.0, 0.2, 40.0), (10.0, 5.0, 40.0), (10.0, 5.0, 0.0)]
     assert [(f.kind, f.line) for f in check(tmp_path, "G0 AX4=1\nM30\n", MILL3)] == [("unknown_word", 1)]
+
+
+def test_a_builders_initial_block_and_retraction_settings_are_accepted(tmp_path):
+    # Programming Manual, lists of G groups 41, 46, 48, 55, 60 and fast retraction (LFON, ALF,
+    # POLF): settings without effect on the simulated geometry are recorded; the ones that
+    # change it stop as unsupported naming them
+    text = ("N10 G0 G17 G90 G40 G500 RTLION WALCS1 G460 LFOF LFTXT TOFFL=0 TOFFR=0\n"
+            "N20 ALF=3 DILF=2 POLF[Z]=100 POLFMASK(Z) SCPARA=1\nN30 LFON\nN40 G0 X5 Y5 Z50\nN50 M30\n")
+    assert check(tmp_path, text, MILL3) == []
+    r = ok(tmp_path, text, MILL3)
+    assert [m.axes["X"] for m in moves(r)] == [5.0]
+    assert {f.data.get("command") for f in r.findings if f.kind == "no_effect"} >= {
+        "RTLION", "WALCS1", "G460", "LFOF", "LFTXT", "ALF", "DILF", "POLF", "POLFMASK", "SCPARA", "LFON"}
+    for bad in ("RTLIOF", "TOFFL=0.2", "TOFF[Z]=1", "G461"):
+        e = error_of(run(tmp_path, f"G0 X0\n{bad}\nM30\n", MILL3))
+        assert (e.kind, e.line) == ("unsupported", 2), bad
