@@ -259,17 +259,17 @@ class Nck:
         if name == "$AC_MSNUM":
             return self.machine.master
         if name in ("$AC_CYCLE_TIME", "$AC_OPERATING_TIME"):
-            return self.clock.now()
+            return self.clock.read()
         if name in nckclock.CALENDAR:
-            return nckclock.calendar(name, self.clock.now())
+            return nckclock.calendar(name, self.clock.read())
         if name in nckclock.POWER_ON:
-            return self.clock.now() / 60.0
+            return self.clock.read() / 60.0
         if name == "$AC_CUTTING_TIME":
             self.clock.now()
             return self.clock.cutting
         if name == "$AC_TIMER":
             value, since = self.timers.get(idx[0], (0.0, None))
-            return value if since is None else value + self.clock.now() - since
+            return value if since is None else value + self.clock.read() - since
         got = self.written.get((name, idx[0] if idx else ()), _MISSING)
         if got is not _MISSING:
             return got

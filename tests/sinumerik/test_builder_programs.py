@@ -318,3 +318,11 @@ def test_a_builders_initial_block_and_retraction_settings_are_accepted(tmp_path)
     for bad in ("RTLIOF", "TOFFL=0.2", "TOFF[Z]=1", "G461"):
         e = error_of(run(tmp_path, f"G0 X0\n{bad}\nM30\n", MILL3))
         assert (e.kind, e.line) == ("unsupported", 2), bad
+
+
+def test_a_loop_waiting_on_the_clock_alone_ends(tmp_path):
+    # a warm-up pause written as a busy loop on a timer: reading a main-run variable stops the
+    # preprocessing until the main run caught up, at least one interpolation cycle (4 ms) a read
+    text = "$AC_TIMER[1]=0\nWHILE $AC_TIMER[1]<5\nENDWHILE\nR1=$A_SECOND+$A_MSECOND/1000\nG0 X=R1\nM30\n"
+    r = ok(tmp_path, text, MILL3)
+    assert 5.0 <= moves(r)[-1].axes["X"] <= 5.0 + 3 * 0.004       # the wait, then two reads
