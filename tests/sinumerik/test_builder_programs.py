@@ -72,7 +72,8 @@ N60 STOPRE
 def test_a_synchronised_action_writing_variables_is_accepted_and_its_variables_unknown(tmp_path):
     # Job planning, "Motion-synchronous actions": an action that writes variables or outputs
     # auxiliary functions leaves the path alone; vmach does not evaluate it, and says so
-    text = SYNC + "N70 R10=0\nN80 G1 X=R10+30\nN90 CANCEL(1)\nN100 M30\n"
+    text = SYNC + ("N70 R10=0\nN80 G1 X=R10+30\nN85 LOCK(1)\nN86 UNLOCK(1)\nN87 RESET(1)\nN90 CANCEL(1)\n"
+                   "N100 M30\n")
     assert check(tmp_path, text, MILL3) == []
     r = ok(tmp_path, text, MILL3)
     assert [m.axes["X"] for m in moves(r)] == [0.0, 20.0, 30.0]      # R10 written anew: known again
