@@ -314,7 +314,10 @@ class Interpreter:
             if pc == CALL:
                 name, args, src, repeat, ret, how = self.pending  # type: ignore[misc]
                 level.pc = ret
-                self.call(name, args, src, repeat, how)
+                try:
+                    self.call(name, args, src, repeat, how)
+                except EvalError as exc:            # an argument the parameter cannot take
+                    raise ProgramError(exc.kind, exc.message, src) from None
                 continue
             if pc == SECTION:
                 start, stop, repeat, src, ret = self.pending  # type: ignore[misc]

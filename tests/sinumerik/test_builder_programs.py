@@ -85,9 +85,10 @@ def test_a_synchronised_action_writing_variables_is_accepted_and_its_variables_u
 
 def test_reading_a_variable_a_synchronised_action_writes_is_unsupported(tmp_path):
     for tail, line in (("N70 G1 X=R10*5\nN80 M30\n", 7), ("N70 _V=R10\nN80 M30\n", 7),
+                       ("N70 G1 Y=R10\nM30\n", 7), ("N70 SUB1(R10)\nM30\n", 7),
                        ("N70 IF $AC_MARKER[2]>0\nN80 M0\nN90 ENDIF\nM30\n", 7)):
-        e = error_of(run(tmp_path, SYNC + tail, MILL3))
-        assert (e.kind, e.line) == ("unsupported", line)
+        e = error_of(run(tmp_path, SYNC + tail, MILL3, SUB1_DOT_SPF="PROC SUB1(REAL _A)\nM17\n"))
+        assert (e.kind, e.line) == ("unsupported", line), tail
     e = error_of(run(tmp_path, SYNC + "N70 R1=$AC_MARKER[1]\nN75 $AC_MARKER[2]=4\nN80 G0 X=$AC_MARKER[2]+R1\n"
                      "N90 MSG(\"R10=\"<<R10)\nM30\n", MILL3))
     assert (e.kind, e.line) == ("unsupported", 7)                   # $AC_MARKER[1] as well
