@@ -118,6 +118,26 @@ class DataSection:
     skipped: tuple[tuple[int, str, int], ...]
 
 
+#: a workpiece's data files loaded when its main program is selected (Operating Manual,
+#: "Workpiece directory": the files of the program's name with these types), in this order
+SELECTION_TYPES = ("TOA", "UFR", "RPA", "SEA", "INI")
+
+
+def selection_names(program: str) -> list[tuple[str, tuple[str, ...]]]:
+    """(type, file names it may have beside the program) for the data files of ``program``
+    (its name without type): ``PART.TOA`` or, as the control names it, ``_N_PART_TOA``."""
+    return [(t, (f"{program}.{t}", f"_N_{program}_{t}")) for t in SELECTION_TYPES]
+
+
+def data_file(name: str, text: str) -> DataSection:
+    """A data file beside the program (``PART.RPA``) as a :class:`DataSection` of its whole
+    text, its header line (if any) left out."""
+    lines = text.splitlines()
+    if lines and header(lines[0]) is not None:
+        lines[0] = ""
+    return _data("\n".join(lines) + "\n", name, 1)
+
+
 def data_sections(text: str) -> list[DataSection]:
     """The ``_INI`` sections of an archive: the data the control loads when the archive is read
     in (R parameters, tool offsets, zero offsets, setting and user data), in file order. The
@@ -125,33 +145,34 @@ def data_sections(text: str) -> list[DataSection]:
     the data of another channel, machine data (which a program cannot write, and vmach takes
     from the machine model) and system data vmach does not keep (magazines …) are left out and
     counted."""
-    out = []
-    for sec in sections(text):
-        if sec.kind != "INI":
+    return [_data(sec.text, f"{sec.name}_{sec.kind}", sec.line) for sec in sections(text)
+            if sec.kind == "INI"]
+
+
+def _data(text: str, name: str, line: int) -> DataSection:
+    """The data of one initialisation text (see :func:`data_sections`)."""
+    lines = text.splitlines()
+    skipped: dict[str, list[int]] = {}
+    other = ""
+    for i, ln in enumerate(lines):
+        if not ln:
             continue
-        lines = sec.text.splitlines()
-        skipped: dict[str, list[int]] = {}
-        other = ""
-        for i, ln in enumerate(lines):
-            if not ln:
-                continue
-            m = _INI_OTHER_CHANNEL.match(ln)
-            what = None
-            if m is not None:
-                other = m.group(1) if int(m.group(1)) != 1 else ""
-            elif _INI_FRAME.match(ln):
-                pass
-            elif other:
-                what = f"the data of channel {other}"
-            elif _INI_MACHINE_DATA.match(ln):
-                what = "machine data"
-            elif (v := _INI_SYSVAR.match(ln)) is not None and sysvars.lookup(v.group(1).upper()) is None:
-                what = "system data vmach does not keep"
-            else:
-                continue
-            lines[i] = ""
-            if what is not None:
-                skipped.setdefault(what, [i + 1, 0])[1] += 1
-        out.append(DataSection(f"{sec.name}_{sec.kind}", sec.line, "\n".join(lines) + "\n",
-                               tuple((first, what, n) for what, (first, n) in skipped.items())))
-    return out
+        m = _INI_OTHER_CHANNEL.match(ln)
+        what = None
+        if m is not None:
+            other = m.group(1) if int(m.group(1)) != 1 else ""
+        elif _INI_FRAME.match(ln):
+            pass
+        elif other:
+            what = f"the data of channel {other}"
+        elif _INI_MACHINE_DATA.match(ln):
+            what = "machine data"
+        elif (v := _INI_SYSVAR.match(ln)) is not None and sysvars.lookup(v.group(1).upper()) is None:
+            what = "system data vmach does not keep"
+        else:
+            continue
+        lines[i] = ""
+        if what is not None:
+            skipped.setdefault(what, [i + 1, 0])[1] += 1
+    return DataSection(name, line, "\n".join(lines) + "\n",
+                       tuple((first, what, n) for what, (first, n) in skipped.items()))

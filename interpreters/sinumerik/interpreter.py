@@ -111,6 +111,28 @@ def program_names(directory: Path) -> frozenset[str]:
     except OSError:
         return frozenset()
     return frozenset(s for e in entries if (s := program_stem(e)) is not None)
+def selection_data(path: Path, display: str) -> list[tuple[str, archive.DataSection]]:
+    """(display, data) of the data files of the program at ``path`` beside it (``PART.TOA``,
+    ``_N_PART_RPA`` … for ``PART.MPF``, archive.selection_names): the control loads them when
+    the program is selected. Read from the program's directory only."""
+    directory = path.resolve().parent
+    stem = archive.header(f"%{path.name.replace('.', '_')}")
+    name = stem[0] if stem and stem[1] in ("MPF", "SPF") else path.stem.upper()
+    try:
+        entries = {e.upper(): e for e in os.listdir(directory)}
+    except OSError:
+        return []
+    out = []
+    for _kind, names in archive.selection_names(name):
+        entry = next((entries[n] for n in names if n in entries), None)
+        if entry is None or not contained(directory / entry, directory) or not (directory / entry).is_file():
+            continue
+        shown = os.path.join(os.path.dirname(display), entry)
+        text = decode_text(read_program_bytes(directory / entry, shown))
+        out.append((shown, archive.data_file(entry, text)))
+    return out
+
+
 def names_a_path(name: str) -> bool:
     """True for a subprogram name that is a path (``CALL "../X"``, ``"/etc/x"``): vmach reads
     subprograms only beside the program, so such a name is refused as leading outside."""
@@ -208,17 +230,21 @@ class Interpreter:
                     raise ProgramError(exc.kind, exc.message, src) from None
 
     def push_data(self, main: Loaded, display: str) -> None:
-        """The ``_INI`` sections of the program's file (an archive), run before it in file order,
-        as the control has loaded them when the archive was read in (archive.data_sections)."""
-        for d in reversed(main.data):
+        """The program's data, run before it: the data files beside it loaded when it is selected
+        (``PART.TOA``, ``PART.RPA`` …, :func:`selection_data`), then the ``_INI`` sections of its
+        own file (an archive) in file order, as the control loaded them when the archive was read
+        in (archive.data_sections)."""
+        data = selection_data(self.path, display) + [(display, d) for d in main.data]
+        for shown, d in reversed(data):
             for line, what, count in d.skipped:
                 self.findings.append(info("archive_section", f"{d.name}: {what} not loaded ({count} block(s) "
                                           "from here; vmach simulates channel 1 and takes machine data from "
-                                          "the machine model)", SourceRef(display, line), section=d.name,
+                                          "the machine model)", SourceRef(shown, line), section=d.name,
                                           count=count))
-            loaded = read_program(self.path, display, self.control, d.text)
+            path = self.path if shown == display else self.directory / os.path.basename(shown)
+            loaded = read_program(path, shown, self.control, d.text)
             self.findings.extend(f for f in loaded.findings if f.severity != "info")
-            self.push(loaded, SourceRef(display, d.line), [])
+            self.push(loaded, SourceRef(shown, d.line), [])
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:

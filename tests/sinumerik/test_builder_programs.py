@@ -328,3 +328,23 @@ def test_a_loop_waiting_on_the_clock_alone_ends(tmp_path):
     text = "$AC_TIMER[1]=0\nWHILE $AC_TIMER[1]<5\nENDWHILE\nR1=$A_SECOND+$A_MSECOND/1000\nG0 X=R1\nM30\n"
     r = ok(tmp_path, text, MILL3)
     assert 5.0 <= moves(r)[-1].axes["X"] <= 5.0 + 3 * 0.004       # the wait, then two reads
+
+
+def test_a_programs_initialisation_files_beside_it_are_loaded_first(tmp_path):
+    # Programming Guide, "Workpiece directory": a workpiece directory holds, beside _N_PART_MPF,
+    # its initialisation programs _N_PART_INI, _N_PART_UFR (frames), _N_PART_SEA …; the
+    # control runs the ones of the program's name when the program is selected
+    (tmp_path / "PART.RPA").write_text("CHANDATA(1)\nR1=12.5\nM17\n")
+    (tmp_path / "_N_PART_UFR").write_text("%_N_PART_UFR\nCHANDATA(1)\n$P_UIFR[1]=CTRANS(X,100)\n"
+                                          "$MN_AXCONF_MACHAX_NAME_TAB[0]=\"X1\"\nM17\n")
+    (tmp_path / "PART.TOA").write_text("$TC_DP3[1,1]=7\n")
+    (tmp_path / "OTHER.RPA").write_text("R1=99\n")
+    text = "G54 G0 X=R1 Y=$TC_DP3[1,1]\nM30\n"
+    assert check(tmp_path, text, MILL3, name="PART.MPF") == []
+    r = ok(tmp_path, text, MILL3, name="PART.MPF")
+    assert moves(r)[-1].axes["X"] == 112.5 and moves(r)[-1].axes["Y"] == 7.0
+    notes = [(f.kind, f.source.path.rsplit("/", 1)[-1], f.line) for f in r.findings
+             if f.kind == "archive_section"]
+    assert notes == [("archive_section", "_N_PART_UFR", 4)]
+    (tmp_path / "PART.TOA").write_text("$TC_DP3[1,1]=7 Q5\n")
+    assert [(f.kind, f.line) for f in check(tmp_path, text, MILL3, name="PART.MPF")] == [("unknown_word", 1)]
