@@ -89,7 +89,7 @@ class Nck:
             "$P_GG": self._gg, "$P_TOOL": lambda v, i: machine.edge,
             "$P_TOOLNO": lambda v, i: _tool_number(machine.tool),
             "$P_TOOLR": lambda v, i: self._active_radius(),
-            "$P_EP": lambda v, i: self._work(i[0]), "$P_F": lambda v, i: self._feed(),
+            "$P_EP": lambda v, i: self._modulo(i[0], self._work(i[0])), "$P_F": lambda v, i: self._feed(),
             "$P_S": lambda v, i: machine.spindles.get(i[0] if i else machine.master, [0.0])[0],
             "$P_SEARCH": _zero, "$P_PROG_EVENT": _zero, "$P_DRYRUN": _zero, "$P_ISTEST": _zero,
             "$P_SEARCHL": _zero,
@@ -248,9 +248,9 @@ class Nck:
         if name == "$AC_F":
             return self._feed()
         if name == "$AA_IM" or name == "$VA_IM":
-            return self.machine.pos.get(idx[0], 0.0)
+            return self._modulo(idx[0], self.machine.pos.get(idx[0], 0.0))
         if name == "$AA_IW":
-            return self._work(idx[0])
+            return self._modulo(idx[0], self._work(idx[0]))
         if name in ("$AC_SGEAR", "$AA_SCPAR"):
             return 1                # gear stage / parameter set 1: vmach models no gears
         if name == "$AA_S":        # actual speed: the programmed one, 0 while stopped
@@ -404,6 +404,15 @@ class Nck:
             if m.inch:
                 v /= INCH
         return v
+
+    def _modulo(self, axis: str, value: float) -> float:
+        """An actual value as the control shows it: within 0 ≤ v < 360 on a modulo rotary axis
+        (vmach's own values are unwrapped)."""
+        spec = self.machine.specs.get(axis)
+        if spec is None or spec.modulo is None:
+            return value
+        v = math.fmod(value, spec.modulo)
+        return v + spec.modulo if v < 0 else v + 0.0
 
     def _feed(self) -> float:
         return self.machine.feed / INCH if self.machine.inch else self.machine.feed

@@ -348,3 +348,14 @@ def test_a_programs_initialisation_files_beside_it_are_loaded_first(tmp_path):
     assert notes == [("archive_section", "_N_PART_UFR", 4)]
     (tmp_path / "PART.TOA").write_text("$TC_DP3[1,1]=7 Q5\n")
     assert [(f.kind, f.line) for f in check(tmp_path, text, MILL3, name="PART.MPF")] == [("unknown_word", 1)]
+
+
+def test_actual_values_of_a_modulo_rotary_axis_lie_within_its_range(tmp_path):
+    # a rotary table's warm-up turns C ten times; MD 30310 ROT_IS_MODULO: its positions are
+    # reduced to 0 ≤ C < 360 in $AA_IM, $AA_IW and $P_EP
+    control = load_model_control(MODELS / "mill5ac.toml")
+    text = ("G0 X0 Y0 Z100 A0 C0\nG91 G1 C3645 F20000\nG90\nR1=$AA_IM[C] R2=$AA_IW[C1] R3=$P_EP[C]\n"
+            "POS[C]=IC(-90)\nR4=$AA_IM[C]\nG0 X=R1 Y=R2 Z=R3+R4\nM30\n")
+    assert check(tmp_path, text, control) == []
+    end = moves(ok(tmp_path, text, control))[-1].axes
+    assert (end["X"], end["Y"], end["Z"]) == (45.0, 45.0, 45.0 + 315.0)
