@@ -101,8 +101,8 @@ _INI_FRAME = re.compile(r"^\s*(?:N\d+\s+)?(?:M17|M30|M0?2|RET|CHANDATA\s*\(\s*1\
 _INI_OTHER_CHANNEL = re.compile(r"^\s*(?:N\d+\s+)?CHANDATA\s*\(\s*(\d+)\s*\)", re.IGNORECASE)
 #: an assignment to machine data (``$MN_…``, ``$MC_…``, ``$MA_…``, ``$MM_…``)
 _INI_MACHINE_DATA = re.compile(r"^\s*(?:N\d+\s+)?\$M[NCAM]_", re.IGNORECASE)
-#: the system variable a block of an initialisation file assigns first
-_INI_SYSVAR = re.compile(r"^\s*(?:N\d+\s+)?(\$[A-Z_][A-Z0-9_]*)", re.IGNORECASE)
+#: the system variables a block of an initialisation file names
+_INI_SYSVAR = re.compile(r"\$[A-Z_][A-Z0-9_]*", re.IGNORECASE)
 
 
 @dataclass(frozen=True, slots=True)
@@ -167,7 +167,7 @@ def _data(text: str, name: str, line: int) -> DataSection:
             what = f"the data of channel {other}"
         elif _INI_MACHINE_DATA.match(ln):
             what = "machine data"
-        elif (v := _INI_SYSVAR.match(ln)) is not None and sysvars.lookup(v.group(1).upper()) is None:
+        elif any(sysvars.lookup(v.upper()) is None for v in _INI_SYSVAR.findall(ln.split(";")[0])):
             what = "system data vmach does not keep"
         else:
             continue

@@ -126,7 +126,7 @@ M17
 CHANDATA(1)
 $TC_MPP1[1,1]=1
 $TC_MPP1[1,2]=1
-$TC_DP1[1,1]=120
+$TC_DP1[1,1]=120 $TC_DPC1[1,1]=0
 $TC_DP3[1,1]=80.0
 $TC_DP6[1,1]=5.0
 M17
@@ -147,7 +147,7 @@ def test_an_archive_loads_its_initialisation_and_definition_sections_first(tmp_p
     notes = sorted((f.kind, f.line, f.severity, f.data["count"]) for f in r.findings
                    if f.kind == "archive_section")
     assert notes == [("archive_section", 15, "info", 1), ("archive_section", 17, "info", 1),
-                     ("archive_section", 21, "info", 2)]      # machine data, channel 2, magazine data
+                     ("archive_section", 21, "info", 3)]      # machine data, channel 2, magazine data
 
 
 def test_an_error_in_an_initialisation_section_is_found_at_its_line(tmp_path):
