@@ -74,6 +74,9 @@ def test_the_wheel_installed_in_a_fresh_venv_runs_every_readme_command(tmp_path)
             if p.suffix not in (".py", ".pyc") and "__pycache__" not in p.parts}
     assert data and data <= inside, sorted(data - inside)
     assert {f"vmach/models/{p.name}" for p in (ROOT / "models").glob("*.toml")} <= inside
+    # the demo's program, its subprogram, tools and settings (vmach demo without a checkout)
+    assert {f"vmach/examples/polygon_shaft/{n}" for n in ("POLY.MPF", "P3G_SHAFT.SPF", "tools.toml",
+                                                          "vmach.toml")} <= inside
     env_dir = tmp_path / "venv"
     venv.EnvBuilder(with_pip=True).create(env_dir)
     py = env_dir / "bin" / "python"
@@ -112,3 +115,12 @@ def test_the_wheel_installed_in_a_fresh_venv_runs_every_readme_command(tmp_path)
             assert (folder / "report.json").is_file(), argv
         if argv[1] == "machines":
             assert "turnmill" in res.stdout and str(env_dir) in res.stdout
+
+    # the instructor's demo from the wheel alone, in a folder without any fixture
+    bare = tmp_path / "bare"
+    bare.mkdir()
+    res = subprocess.run([str(exe), "demo", "polygon-shaft", "--size", "14", "--frames", "2", "--out", "d"],
+                         cwd=bare, capture_output=True, text=True, env=env, timeout=900)
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert "Traceback" not in res.stderr
+    assert (bare / "d" / "demo.html").is_file() and (bare / "d" / "cut_P3G_014.gif").stat().st_size > 0

@@ -20,8 +20,8 @@ from interpreters.sinumerik.interpreter import (
     names_a_path,
     program_names,
     read_program,
-    selection_data,
 )
+from interpreters.sinumerik.selection import selection_data
 from vmach.canon import DEFAULT_CONTROL, ControlSpec, RunOptions, RunResult
 from vmach.findings import Finding, error, sort_key
 from vmach.source import SourceRef

@@ -17,13 +17,23 @@ from __future__ import annotations
 
 import math
 
-from interpreters.sinumerik import circles, cycles, increments, orientation, polar, surface, tracyl
+from interpreters.sinumerik import (
+    circles,
+    cycles,
+    frame_words,
+    increments,
+    orientation,
+    polar,
+    surface,
+    targets,
+    tracyl,
+)
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
 from interpreters.sinumerik.cutcom import Compensator
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS, drill, pattern
-from interpreters.sinumerik.frames import IDENTITY, Frames, diagonal, matmul, modulo_target, rot_axis, rpy
+from interpreters.sinumerik.frames import IDENTITY, Frames
 from vmach import canon
 from vmach.canon import AxisSpec, ControlSpec
 from vmach.errors import ProgramError
@@ -31,7 +41,6 @@ from vmach.findings import warning
 from vmach.source import SourceRef
 
 PLANES = {"G17": ("X", "Y", "Z"), "G18": ("Z", "X", "Y"), "G19": ("Y", "Z", "X")}
-PLANE_NORMAL = {"G17": 2, "G18": 1, "G19": 0}
 FEED_MODES = {
     "G93": "inverse_time",
     "G94": "per_minute",
@@ -473,57 +482,7 @@ class Machine:
         return float(r)
 
     # ------------------------------------------------------------------------------------
-    def frame(self, v: Values, src: SourceRef) -> None:
-        fc = v.frame
-        vals = v.frame_values
-        scale = INCH if self.inch else 1.0
-        if fc.name in polar.POLES:
-            polar.set_pole(self, fc.name, vals, src.at(fc.col))
-            return
-        increments.frame_changes(self)
-        if fc.name in ("SCALE", "ASCALE", "MIRROR", "AMIRROR"):
-            g = self.geometry
-            for k in vals:
-                if k not in g:
-                    raise ProgramError("unsupported", f"{fc.name}: {k} is not a geometry axis; vmach "
-                                       "scales and mirrors the geometry axes only", src.at(fc.col))
-            if fc.name.endswith("MIRROR"):
-                m = diagonal(tuple(-1.0 if n in vals else 1.0 for n in g))  # type: ignore[arg-type]
-            else:
-                if any(not val for val in vals.values()):
-                    raise ProgramError("invalid_value", f"{fc.name}: a scale factor of 0", src.at(fc.col))
-                m = diagonal(tuple(vals.get(n, 1.0) for n in g))  # type: ignore[arg-type]
-            if fc.name.startswith("A"):
-                self.frames.rot_add(m)
-            else:
-                self.frames.linear_abs(m)
-            if self.cutcom.engaged and not _unit_scale(self.frames.lin):
-                raise ProgramError("cutcom", f"{fc.name} while tool radius compensation is active: "
-                                   "a scaled frame would scale the tool radius", src.at(fc.col))
-        elif fc.name in ("TRANS", "ATRANS"):
-            for k in vals:
-                if k not in self.specs:
-                    self.add_axis(k)  # a loose axis (no strict axes): known from here on, as after a move
-            d = {k: (val * scale if self.specs[k].kind == "linear" else val) for k, val in vals.items()}
-            (self.frames.trans_abs if fc.name == "TRANS" else self.frames.trans_add)(d)
-        else:
-            if v.rpl is not None:
-                if vals:
-                    raise ProgramError(
-                        "syntax", f"{fc.name}: give RPL or axis angles, not both", src.at(fc.col)
-                    )
-                m = rot_axis(PLANE_NORMAL[self.plane], v.rpl)
-            else:
-                g = self.geometry
-                for k in vals:
-                    if k not in g:
-                        raise ProgramError("syntax", f"{fc.name}: {k} is not a geometry axis", src.at(fc.col))
-                m = rpy(vals.get(g[0], 0.0), vals.get(g[1], 0.0), vals.get(g[2], 0.0))
-            if fc.name == "ROT":
-                self.frames.rot_abs(m)
-            else:
-                self.frames.rot_add(m)
-        self.emit_frame(src)
+    frame = frame_words.frame              # (self, v: Values, src)
 
     # ------------------------------------------------------------------------------------
     def end_contour(self, src: SourceRef) -> None:
@@ -640,109 +599,8 @@ class Machine:
         self.move(v, src, False)
         self.refresh_plain()
 
-    def _plain_targets(self, words: list) -> dict | None:
-        """Targets when no rotation, diameter or inch mode is active: value + offset.
-        None when a word needs the general path."""
-        pos = self.pos
-        new = pos.copy()
-        off = self.frames.off
-        specs = self.specs
-        absolute = self.absolute
-        stale = self.stale
-        for word, value in words:
-            cls = value.__class__
-            if cls is not float and cls is not int:
-                return None
-            name = word.name
-            spec = specs.get(name)
-            if spec is None:
-                return None
-            mode = word.mode
-            if stale and name in stale and (mode == "IC" or (mode is None and not absolute)):
-                return None  # the frame changed since this axis moved: the general path
-            if spec.modulo is None:
-                if mode is None:
-                    new[name] = value + off.get(name, 0.0) if absolute else pos[name] + value
-                elif mode == "AC":
-                    new[name] = value + off.get(name, 0.0)
-                elif mode == "IC":
-                    new[name] = pos[name] + value
-                else:
-                    return None  # ACP/ACN/DC on a non-modulo axis: the general path reports it
-                continue
-            if mode is None:
-                mode = "AC" if absolute else "IC"
-            if mode == "IC":
-                new[name] = pos[name] + value
-                continue
-            if mode == "AC" and spec.g90_mode == "dc":
-                mode = "DC"
-            new[name] = modulo_target(pos[name], value + off.get(name, 0.0), mode, spec.modulo)
-        return new
-
-    def _targets(self, v: Values, src: SourceRef, suppress: bool) -> dict:
-        pos = self.pos
-        new = dict(pos)
-        g = self.geometry
-        frames = self.frames
-        geo_words = []
-        scale = INCH if self.inch else 1.0
-        for word, value in v.axes:
-            name = word.name
-            spec = self.specs.get(name)
-            if spec is None:
-                self.add_axis(name)
-                spec = self.specs[name]
-                new[name] = 0.0
-            if not isinstance(value, (int, float)) or isinstance(value, bool):
-                if hasattr(value, "what"):       # syncact.Unknown: a synchronised action's variable
-                    raise ProgramError("unsupported", value.what, src.at(word.col))
-                raise ProgramError("type_error", f"{name} needs a number", src.at(word.col))
-            mode = word.mode
-            if name in g:
-                geo_words.append((word, float(value)))
-                continue
-            value = float(value)
-            if spec.kind == "linear":
-                value *= scale
-            if spec.modulo and mode in ("ACP", "ACN", "DC"):
-                off = 0.0 if suppress else frames.offset(name)
-                new[name] = modulo_target(pos[name], value + off, mode, spec.modulo)
-            elif mode in ("ACP", "ACN", "DC"):
-                raise ProgramError(
-                    "invalid_value",
-                    f"{mode} needs a modulo rotary axis; {name} is not one",
-                    src.at(word.col),
-                )
-            elif mode == "IC" or (mode is None and not self.absolute):
-                new[name] = pos[name] + value
-                if name in self.stale and not suppress:   # SD42440: the offset change too
-                    new[name] += frames.offset(name) - self.stale[name].offset(name)
-            else:
-                off = 0.0 if suppress else frames.offset(name)
-                if spec.modulo:
-                    new[name] = modulo_target(
-                        pos[name], value + off, "DC" if spec.g90_mode == "dc" else "AC", spec.modulo
-                    )
-                else:
-                    new[name] = value + off
-        transverse = self.control.transverse or ("X" if not self.control.strict_axes else None)
-        if geo_words:
-            cur = tuple(pos[n] for n in g)
-            p = list(cur) if suppress else list(frames.to_program(cur))
-            for word, value in geo_words:
-                i = g.index(word.name)
-                inc = word.mode == "IC" or (word.mode is None and not self.absolute)
-                value *= scale
-                if self.diameter and word.name == transverse and not (inc and self.diam90):
-                    value /= 2.0
-                if inc and not suppress and word.name in self.stale:  # SD42440: from the point as
-                    p[i] = self.stale[word.name].to_program(cur)[i]   # programmed, offset traversed
-                p[i] = p[i] + value if inc else value
-            m = p if suppress else frames.to_machine(tuple(p))
-            for i, n in enumerate(g):
-                new[n] = m[i]
-        return new
+    _plain_targets = targets.plain_targets
+    _targets = targets.targets
 
     def arc(self, v: Values, src: SourceRef, new: dict, suppress: bool, about_pole: bool = False) -> tuple:
         """The block's ArcFeed and its centre (a, b) in program coordinates of the plane."""
@@ -811,9 +669,3 @@ class Machine:
         cmd = canon.ArcFeed(src, axes=new, plane=plane, center=(cm[ia], cm[ib]),
                             clockwise=cw if suppress else self.machine_cw(cw), turns=turns, feed=self.feed)
         return cmd, (ca, cb)
-
-
-def _unit_scale(m) -> bool:
-    """Whether the linear map m keeps lengths (a rotation, possibly mirrored)."""
-    mt = matmul(m, tuple(tuple(m[j][i] for j in range(3)) for i in range(3)))
-    return all(abs(mt[i][j] - (1.0 if i == j else 0.0)) < 1e-9 for i in range(3) for j in range(3))

@@ -24,6 +24,7 @@ from interpreters.sinumerik.expr import Env, EvalError, Node, compile_expr, elem
 from interpreters.sinumerik.nck import Nck
 from interpreters.sinumerik.parser import parse_program
 from interpreters.sinumerik.sandbox import Sandbox
+from interpreters.sinumerik.selection import selection_data
 from interpreters.sinumerik.structure import analyse, dynamic_target, find_target
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
@@ -111,28 +112,6 @@ def program_names(directory: Path) -> frozenset[str]:
     except OSError:
         return frozenset()
     return frozenset(s for e in entries if (s := program_stem(e)) is not None)
-def selection_data(path: Path, display: str) -> list[tuple[str, archive.DataSection]]:
-    """(display, data) of the data files of the program at ``path`` beside it (``PART.TOA``,
-    ``_N_PART_RPA`` … for ``PART.MPF``, archive.selection_names): the control loads them when
-    the program is selected. Read from the program's directory only."""
-    directory = path.resolve().parent
-    stem = archive.header(f"%{path.name.replace('.', '_')}")
-    name = stem[0] if stem and stem[1] in ("MPF", "SPF") else path.stem.upper()
-    try:
-        entries = {e.upper(): e for e in os.listdir(directory)}
-    except OSError:
-        return []
-    out = []
-    for _kind, names in archive.selection_names(name):
-        entry = next((entries[n] for n in names if n in entries), None)
-        if entry is None or not contained(directory / entry, directory) or not (directory / entry).is_file():
-            continue
-        shown = os.path.join(os.path.dirname(display), entry)
-        text = decode_text(read_program_bytes(directory / entry, shown))
-        out.append((shown, archive.data_file(entry, text)))
-    return out
-
-
 def names_a_path(name: str) -> bool:
     """True for a subprogram name that is a path (``CALL "../X"``, ``"/etc/x"``): vmach reads
     subprograms only beside the program, so such a name is refused as leading outside."""

@@ -18,12 +18,15 @@ _HERE = Path(__file__).resolve().parent
 
 
 def default_program() -> Path:
-    """The parametric program of the checkout's fixture (fixtures/polygon_shaft/POLY.MPF)."""
-    p = _HERE.parent.parent / "fixtures" / "polygon_shaft" / "POLY.MPF"
-    if not p.is_file():
-        raise InputError("the polygon-shaft program is in vmach's source checkout (fixtures/polygon_shaft/"
-                         "POLY.MPF): run the demo there, or give --program", kind="usage")
-    return p
+    """The parametric program of the polygon-shaft fixture: the installed package's copy
+    (``vmach/examples/polygon_shaft/POLY.MPF``, see setup.py) or the checkout's
+    ``fixtures/polygon_shaft/POLY.MPF``."""
+    for p in (_HERE.parent / "examples" / "polygon_shaft" / "POLY.MPF",
+              _HERE.parent.parent / "fixtures" / "polygon_shaft" / "POLY.MPF"):
+        if p.is_file():
+            return p
+    raise InputError("the polygon-shaft program is missing from this installation (vmach/examples/"
+                     "polygon_shaft/POLY.MPF): reinstall vmach, or give --program", kind="usage")
 
 
 def profile_band_png(report, path: Path) -> bool:
