@@ -13,6 +13,7 @@ The registry below is a plain dict from extension to module name (imported on fi
 from __future__ import annotations
 
 import importlib
+import re
 from pathlib import Path
 from types import ModuleType
 
@@ -33,6 +34,10 @@ NAMES: dict[str, str] = {
 }
 
 
+#: a program named as a Sinumerik control's file system names it (``_N_PART_MPF``, ``_N_L100_SPF``),
+#: as copied from the control without an extension
+CONTROL_FILE = re.compile(r"^_N_\w+_(?:MPF|SPF)$", re.IGNORECASE)
+
 #: extensions several controls use: the machine's dialect decides when it declares one
 GENERIC = frozenset({".nc", ".tap"})
 
@@ -46,6 +51,8 @@ def dialect_for(path: str | Path, name: str | None = None, machine: str | None =
             raise InputError(f"unknown dialect {name!r}; known: {', '.join(sorted(NAMES))}")
         return importlib.import_module(NAMES[name])
     ext = Path(path).suffix.lower()
+    if ext not in DIALECTS and CONTROL_FILE.match(Path(path).name):
+        return importlib.import_module(NAMES["sinumerik"])   # _N_NAME_MPF: a Sinumerik control's file
     if machine in NAMES and (ext in GENERIC or ext not in DIALECTS):
         return importlib.import_module(NAMES[machine])
     if ext not in DIALECTS:

@@ -142,7 +142,7 @@ def test_the_cli_says_the_limit_with_its_place(tmp_path, capsys):
 
 
 # -- 6: a limit bites as fast in verify as in run ----------------------------------------------------
-@pytest.mark.parametrize("name, text", [("P.MPF", "LBL: G0 X1\nG0 X0\nGOTOB LBL\nM30\n"),
+@pytest.mark.parametrize("name, text", [("P.MPF", "LBL: G0 X1\nG0 X0\nR1=R1+1\nGOTOB LBL\nM30\n"),
                                         ("p.ngc", "o100 while [1]\nG0 X1\nG0 X0\no100 endwhile\nM2\n")])
 def test_verify_checks_nothing_after_a_run_stopped_at_a_limit(tmp_path, capsys, name, text):
     """A runaway program stops at vmach's limit in the interpreter; verify then builds no move

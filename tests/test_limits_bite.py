@@ -41,7 +41,7 @@ def test_an_endless_loop_stops_at_the_block_limit_with_its_place(tmp_path, name,
 @pytest.mark.parametrize("name, dialect, text", [
     ("g81.ngc", rs274ngc, "G90 G0 X0 Y0 Z10\nG91 G81 X1 Z-1 R1 F100 L1000000000\nM2\n"),
     ("move.ngc", rs274ngc, "o100 while [1]\nG0 X1\nG0 X0\no100 endwhile\nM2\n"),
-    ("MOVE.MPF", sinumerik, "LBL: G0 X1\nG0 X0\nGOTOB LBL\nM30\n"),
+    ("MOVE.MPF", sinumerik, "LBL: G0 X1\nG0 X0\nR1=R1+1\nGOTOB LBL\nM30\n"),
 ])
 def test_a_loop_that_moves_stops_at_the_command_limit_with_its_place(tmp_path, monkeypatch, name,
                                                                        dialect, text):

@@ -7,6 +7,7 @@ listed in ``DEVIATIONS.md``.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from interpreters.sinumerik import blocks as b
@@ -20,6 +21,7 @@ from interpreters.sinumerik.interpreter import (
     program_names,
     read_program,
 )
+from interpreters.sinumerik.selection import selection_data
 from vmach.canon import DEFAULT_CONTROL, ControlSpec, RunOptions, RunResult
 from vmach.findings import Finding, error, sort_key
 from vmach.source import SourceRef
@@ -37,9 +39,12 @@ def check(path: str | Path, control: ControlSpec = DEFAULT_CONTROL) -> list[Find
     archived = frozenset(loaded.archive)
     findings = list(loaded.findings) + list(definitions.load(p, str(path), control).findings)
     findings += _names(loaded.program, p.resolve().parent, control, archived)
-    for text in loaded.archive.values():
+    for text in [*loaded.archive.values(), *(d.text for d in loaded.data)]:
         other = read_program(p, str(path), control, text)
         findings += other.findings + _names(other.program, p.resolve().parent, control, archived)
+    for shown, d in selection_data(p, str(path)):        # PART.TOA, PART.RPA … beside it
+        beside = p.resolve().parent / os.path.basename(shown)
+        findings += read_program(beside, shown, control, d.text).findings
     return sorted(findings, key=sort_key)
 
 

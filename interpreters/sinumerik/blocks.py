@@ -16,13 +16,15 @@ from vmach.findings import Finding
 @dataclass(frozen=True, slots=True)
 class Jump:
     """``GOTOF``/``GOTOB``/``GOTO``/``GOTOC`` to a label, or to a block number (``number``);
-    ``variable``: ``target`` names a STRING variable that holds the destination."""
+    ``variable``: ``target`` names a STRING variable that holds the destination, or ``expr``
+    computes it (``GOTOF ("LB"<<R1)``)."""
 
     how: str
     target: str
     number: int | None
     col: int
     variable: bool = False
+    expr: Node | None = None
 
 
 @dataclass(frozen=True, slots=True)

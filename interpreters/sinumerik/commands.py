@@ -27,7 +27,7 @@ import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from interpreters.sinumerik import approach, coupling, orientation, sandbox, surface
+from interpreters.sinumerik import approach, coupling, orientation, sandbox, surface, syncact
 from interpreters.sinumerik import blocks as b
 from interpreters.sinumerik.cycles import NAMES as MILLING
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
@@ -106,6 +106,23 @@ def _alarm(p: Reading, t) -> b.Item:
 def _cycle(p: Reading, t) -> b.Item:
     p.fail("unsupported", f"{t.text} is a Siemens standard cycle that vmach does not simulate", t.col)
     raise AssertionError
+
+
+def _interrupt(p: Reading, t) -> b.Item:
+    """``SETINT(n) [PRIO=m] [NAME] [LIFTFAST] [BLSYNC]``, ``ENABLE(n)``, ``DISABLE(n)``,
+    ``CLRINT(n)``: the input's number, and for SETINT the rest of the block (the routine it
+    names is started by the input only, never by the program)."""
+    p.expect_op("(")
+    node = p.expr()
+    p.expect_op(")")
+    if t.text == "SETINT":
+        while p.tok.kind == IDENT:
+            name = p.tok.text
+            p.pos += 1
+            if name == "PRIO":
+                p.expect_op("=")
+                p.expr()
+    return b.Command(t.col, t.text, "interrupt", (node,))
 
 
 def _unsupported(p: Reading, t) -> b.Item:
@@ -209,6 +226,8 @@ _READERS: dict[str, Callable] = {
     "axis_mark": _axis_mark,
     "zero_value": _value,
     "coupling": _procedure,
+    "interrupt": _interrupt,
+    "synchronised": syncact.read,
 }
 
 
@@ -272,6 +291,8 @@ def step(it: Running, item: b.Command, src: SourceRef, positions: list) -> Calla
         return _zero_value(it, item, fs[0], src)
     if kind == "coupling":
         return coupling.step(it, item, src)
+    if kind == "synchronised":
+        return syncact.step(it, item, src)
     if kind == "alarm":
         f = fs[0]
 

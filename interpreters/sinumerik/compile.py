@@ -11,10 +11,11 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import commands
+from interpreters.sinumerik import commands, endless
 from interpreters.sinumerik.arrays import unravel
 from interpreters.sinumerik.execute import Values
-from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num
+from interpreters.sinumerik.expr import EvalError, compile_expr, eq, num, scope_of
+from interpreters.sinumerik.structure import find_target
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.source import SourceRef
@@ -85,6 +86,8 @@ def compile_block(it: Running, program: b.Program, blk: b.Block) -> Callable[[],
         if blk.partner < 0:
             return unbalanced("ENDWHILE without WHILE")
         back = blk.partner
+        if endless.no_way_out(program, back, i):           # WHILE TRUE: a run-in loop until reset
+            return endless.back_jump(it, program, blk, back, src)
         return lambda: back
     if kind == "until":
         if blk.partner < 0:
@@ -96,6 +99,8 @@ def compile_block(it: Running, program: b.Program, blk: b.Block) -> Callable[[],
         if blk.partner < 0:
             return unbalanced("ENDLOOP without LOOP")
         body = blk.partner + 1
+        if endless.no_way_out(program, blk.partner, i):    # a run-in loop until reset
+            return endless.back_jump(it, program, blk, body, src)
         return lambda: body
     if kind == "for":
         return _for(it, program, blk, src)
@@ -192,6 +197,10 @@ def _nc(it: Running, program: b.Program, blk: b.Block, src: SourceRef) -> Callab
     cond = compile_expr(blk.cond, env) if blk.cond is not None else None
     target = it.jump_target(program, blk, blk.jump) if blk.jump is not None else None
     items = blk.items
+    if not items and cond is None and blk.jump is not None and not blk.jump.variable:
+        back = find_target(program, blk.index, blk.jump)     # GOTOB START alone: until reset?
+        if back is not None and back <= blk.index and endless.no_way_out(program, back, blk.index):
+            return endless.back_jump(it, program, blk, back, src)
 
     if all(isinstance(x, b.Assign) for x in items):
         pairs = [(it.setter(x.target), compile_expr(x.expr, env), x.col) for x in items]
@@ -224,7 +233,7 @@ def _nc(it: Running, program: b.Program, blk: b.Block, src: SourceRef) -> Callab
     positions: list = []    # the block's POS/POSA moves (commands.run_positions)
     steps = [(commands.step(it, x, src, positions), x.col) if isinstance(x, b.Command) else
              (commands.code_step(it, x.code, x.col, src), x.col)
-             if isinstance(x, b.GCode) and x.code.status == "accepted" else _step(it, x) for x in items]
+             if isinstance(x, b.GCode) and x.code.status == "accepted" else _step(it, x, src) for x in items]
     machine = it.machine
     general = _general_nc(it, blk, src, steps, items, cond, target, nxt, positions)
     simple = all(
@@ -263,7 +272,12 @@ def _nc(it: Running, program: b.Program, blk: b.Block, src: SourceRef) -> Callab
             machine.motion = code
         if not machine.straight(vals, src):
             machine.general_move(vals, src)
-        return target() if target is not None else nxt
+        ret = target() if target is not None else nxt
+        mc = it.modal_call
+        if mc is not None and len(it.stack) == mc[3]:
+            it.pending = (mc[0], mc[1], mc[2], 1, ret, "")
+            return CALL
+        return ret
 
     return straight_block
 
@@ -278,6 +292,7 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt, positions):
     )
 
     def nc():
+        modal = it.modal_call           # MCALL of a subprogram before this block (not made here)
         v = Values()
         if need_gcodes:
             v.gcodes = []
@@ -319,9 +334,12 @@ def _general_nc(it, blk, src, steps, items, cond, target, nxt, positions):
                 out.append(canon.ProgramEnd(src, code=end))
                 return STOP
             return END_LEVEL
-        if target is not None and (cond is None or cond()):
-            return target()
-        return nxt
+        ret = target() if target is not None and (cond is None or cond()) else nxt
+        if modal is not None and modal is it.modal_call and (v.axes or positions) \
+                and len(it.stack) == modal[3]:
+            it.pending = (modal[0], modal[1], modal[2], 1, ret, "")
+            return CALL
+        return ret
 
     return nc
 
@@ -352,7 +370,7 @@ def _item_kind(item) -> str:
     return "other"
 
 
-def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
+def _step(it: Running, item, src: SourceRef) -> tuple[Callable[[Values], None], int]:
     env = it.env
     col = item.col
     if isinstance(item, b.Assign):
@@ -435,6 +453,12 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
     if isinstance(item, b.Builtin):
         fs = [compile_expr(a, env) if a is not None else None for a in item.args]
         name = item.name
+        if name == "RET":                   # RET("LABEL", …): where the caller goes on (interpreter.ret)
+
+            def ret_to(v):
+                it.ret_to = (tuple(f() if f is not None else None for f in fs), src.at(col))
+
+            return ret_to, col
         if name == "SETMS":
 
             def setms(v):
@@ -455,7 +479,22 @@ def _step(it: Running, item) -> tuple[Callable[[Values], None], int]:
         targets = [_ref_target(a) for a in item.args]
         name, how = item.name, item.how
         if item.cycle:
+            if name.startswith("MCALL"):    # MCALL alone or of a cycle ends a subprogram's MCALL
+
+                def modal_cycle(v):
+                    it.modal_call = None
+                    v.cycles.append((name, [g() if g else None for g in fs]))
+
+                return modal_cycle, col
             return (lambda v: v.cycles.append((name, [g() if g else None for g in fs]))), col
+        if how == "MCALL":                  # MCALL NAME(args): called after each block that moves
+
+            def modal_sub(v):
+                it.machine.mcall = None
+                it.modal_call = (name, [((g() if g else None), None) for g in fs], src.at(col),
+                                 len(it.stack))
+
+            return modal_sub, col
         if how == "CALL_VAR":       # CALL PNAME: the program the STRING variable names
             get = fs[0]
 
@@ -503,7 +542,8 @@ def _argument(node, env):
         return None
     if node.op == "var" and not node.args:
         name = node.value
-        return lambda: env.vars[name]
+        scope = scope_of(name, env)         # a GUD variable lives in the global scope
+        return lambda: scope.vars[name]
     return compile_expr(node, env)
 
 

@@ -31,8 +31,10 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from interpreters.sinumerik import archive, macros
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import macros
+from interpreters.sinumerik.archive import GUD_MODULES as MODULES
+from interpreters.sinumerik.archive import MACRO_MODULES
 from interpreters.sinumerik.language import TYPES
 from interpreters.sinumerik.lexer import IDENT, split_comment, tokenize
 from interpreters.sinumerik.parser import BlockParser, Grammar
@@ -44,11 +46,8 @@ from vmach.source import SourceRef
 
 #: a GUD file's name: _N_<MODULE>_DEF, <MODULE>.DEF or _N_<MODULE>_DEF.DEF
 GUD_FILE = re.compile(r"^(?:_N_)?(SGUD|MGUD|UGUD|GUD[4-9])(?:_DEF(?:\.DEF)?|\.DEF)$", re.IGNORECASE)
-#: the modules in the order the control activates them
-MODULES = ("SGUD", "MGUD", "UGUD", "GUD4", "GUD5", "GUD6", "GUD7", "GUD8", "GUD9")
 #: a macro file's name (``DEFINE … AS`` lines, macros.py), in the order the control reads them
 MACRO_FILE = re.compile(r"^(?:_N_)?(SMAC|MMAC|UMAC)(?:_DEF(?:\.DEF)?|\.DEF)$", re.IGNORECASE)
-MACRO_MODULES = ("SMAC", "MMAC", "UMAC")
 _END = {"M30", "M17", "M02", "M2", "RET"}
 
 
@@ -83,12 +82,12 @@ def files(directory: Path, pattern: re.Pattern = GUD_FILE, order: tuple[str, ...
     return [p for _, _, p in sorted(found)]
 
 
-def _macros(paths: list[Path], display_dir: str) -> tuple[dict[str, str], list[Finding]]:
-    """The macros of the macro files: every ``DEFINE name AS text`` line; other lines are
-    left alone (a macro file holds definitions only)."""
+def _macros(paths: list[Path], display_dir: str, extra: tuple = ()) -> tuple[dict[str, str], list[Finding]]:
+    """The macros of the macro files (and of ``extra`` (display, text) pairs): every ``DEFINE
+    name AS text`` line; other lines are left alone (a macro file holds definitions only)."""
     table: dict[str, str] = {}
     findings: list[Finding] = []
-    for _display, text in _texts(paths, display_dir, findings):
+    for _display, text in [*_texts(paths, display_dir, findings), *extra]:
         for raw in text.splitlines():
             if (d := macros.definition(split_comment(raw)[0])) is not None:
                 table[d[0]] = d[1]
@@ -133,26 +132,49 @@ def load(program: Path, display: str, control: ControlSpec) -> Definitions:
     paths += [p for p in extra if all(p.resolve() != q.resolve() for q in paths)]
     refused = tuple(error("file_outside", f"the GUD file {n} the machine or setup names leads outside the "
                           "program's directory (never read)", SourceRef(display, 1)) for n in outside)
-    if not paths and not macro_paths:
+    own, own_macros = _own_sections(program, display)
+    if not paths and not macro_paths and not own and not own_macros:
         return Definitions({}, refused, {}) if refused else EMPTY
     key = (str(directory), os.path.dirname(display),
            tuple((str(p), p.stat().st_mtime_ns, p.stat().st_size) for p in paths + macro_paths),
-           tuple(sorted(a.name for a in control.axes)), control.definitions)
+           tuple(sorted(a.name for a in control.axes)), control.definitions, own, own_macros)
     if key not in _cache:
-        got = _read(paths, os.path.dirname(display), control)
-        table, problems = _macros(macro_paths, os.path.dirname(display))
+        got = _read(paths, os.path.dirname(display), control, own)
+        table, problems = _macros(macro_paths, os.path.dirname(display), own_macros)
         _cache[key] = Definitions(got.variables, got.findings + tuple(problems), got.sources, table)
     found = _cache[key]
     return Definitions(found.variables, refused + found.findings, found.sources, found.macros) if refused \
         else found
 
 
-def _read(paths: list[Path], display_dir: str, control: ControlSpec) -> Definitions:
+def _own_sections(program: Path, display: str) -> tuple[tuple, tuple]:
+    """((display, text) of each GUD section, of each macro section) of the program's own file
+    when it is an archive (``%_N_UGUD_DEF`` among its sections, archive.py); their lines keep
+    the file's numbers. The GUD sections come in activation order, after the files beside."""
+    try:
+        text = decode_text(read_bytes(program, display))
+    except Exception:  # unreadable: reading the program itself says so
+        return (), ()
+    if "%" not in text:
+        return (), ()
+    gud, mac = [], []
+    for sec in archive.sections(text):
+        if sec.kind != "DEF":
+            continue
+        name = sec.name.upper()
+        if name in MODULES:
+            gud.append((MODULES.index(name), (display, sec.text)))
+        elif name in MACRO_MODULES:
+            mac.append((MACRO_MODULES.index(name), (display, sec.text)))
+    return tuple(t for _, t in sorted(gud)), tuple(t for _, t in sorted(mac))
+
+
+def _read(paths: list[Path], display_dir: str, control: ControlSpec, extra: tuple = ()) -> Definitions:
     grammar = Grammar(control)
     variables: dict = {}
     sources: dict[str, SourceRef] = {}
     findings: list[Finding] = []
-    for display, text in _texts(paths, display_dir, findings):
+    for display, text in [*_texts(paths, display_dir, findings), *extra]:
         for lineno, raw in enumerate(text.splitlines(), start=1):
             code = split_comment(raw)[0].strip()
             if not code or code.startswith("%") or code.upper() in _END:

@@ -297,7 +297,7 @@ class Machine:
             self.feed = v.feed * (INCH if self.inch and self.feed_mode != "inverse_time" else 1.0)
         changed: dict[int, None] = {}
         for spindle, value in v.speeds:
-            if spindle is None and dwell:
+            if dwell:               # G4 S… / S<n>=…: a dwell in revolutions, no speed
                 continue
             s = self.master if spindle is None else spindle
             self._spindle(s, src)[0] = surface.speed(self, s, float(value), src)
@@ -366,10 +366,7 @@ class Machine:
             if v.feed is not None:
                 out.append(canon.Dwell(src, seconds=float(v.feed)))
             else:
-                revs = next((val for sp, val in v.speeds if sp is None), None)
-                if revs is None:
-                    raise ProgramError("syntax", "G4 needs F (seconds) or S (revolutions)", src)
-                out.append(canon.Dwell(src, revolutions=float(revs)))
+                self._dwell_revolutions(v.speeds, src)
         for name, args in v.cycles:
             if name in DRILLING:
                 drill(self, name, args, src)
@@ -417,6 +414,21 @@ class Machine:
         self.plain = not (self.inch or self.diameter or self.frames.rotated or self.cutcom.engaged
                           or self.corners.held is not None or self.corners.modal
                           or self.mcall is not None or self.tracyl is not None or self.traori or self.unknown)
+
+    def _dwell_revolutions(self, speeds, src: SourceRef) -> None:
+        """``G4 S…`` (revolutions of the master spindle) or ``G4 S<n>=…`` (of spindle n, as
+        seconds at its programmed speed when n is not the master; Fundamentals, "Dwell time")."""
+        if not speeds:
+            raise ProgramError("syntax", "G4 needs F (seconds) or S (revolutions)", src)
+        spindle, revs = speeds[0]
+        if spindle is None or spindle == self.master:
+            self.out.append(canon.Dwell(src, revolutions=float(revs)))
+            return
+        speed, state = self.spindles.get(spindle, (0.0, "stop"))
+        if state == "stop" or speed <= 0:
+            raise ProgramError("invalid_value", f"G4 S{spindle}={revs:g}: a dwell in revolutions of spindle "
+                               f"{spindle}, which is not turning", src)
+        self.out.append(canon.Dwell(src, seconds=float(revs) * 60.0 / speed))
 
     def _spindle(self, s: int, src: SourceRef) -> list:
         if s not in self.spindles:

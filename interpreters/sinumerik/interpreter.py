@@ -24,12 +24,13 @@ from interpreters.sinumerik.expr import Env, EvalError, Node, compile_expr, elem
 from interpreters.sinumerik.nck import Nck
 from interpreters.sinumerik.parser import parse_program
 from interpreters.sinumerik.sandbox import Sandbox
+from interpreters.sinumerik.selection import selection_data
 from interpreters.sinumerik.structure import analyse, dynamic_target, find_target
 from vmach import canon
 from vmach.canon import ControlSpec, RunOptions, RunResult
 from vmach.errors import ProgramError
 from vmach.files import contained, decode_text, read_program_bytes
-from vmach.findings import Finding, warning
+from vmach.findings import Finding, info, warning
 from vmach.source import SourceRef
 
 PROGRAM_SUFFIXES = (".SPF", ".MPF")
@@ -41,6 +42,7 @@ class Loaded:
     findings: list[Finding]
     ops: list[Callable[[], int]] | None = None
     archive: dict[str, str] = field(default_factory=dict)  # later programs of its file (archive.py)
+    data: tuple = ()            # archive.DataSection: its file's _INI sections, run before it
 
 
 @dataclass(slots=True)
@@ -67,35 +69,49 @@ def read_program(path: Path, display: str, control: ControlSpec, text: str | Non
     program = parse_program(main, display, control, program_names(path.resolve().parent) | frozenset(others),
                             known=gud.variables, known_macros=gud.macros)
     findings = notes + list(program.findings) + analyse(program)
-    return Loaded(program, findings, archive=others)
+    data = tuple(archive.data_sections(text)) if "%" in text else ()
+    return Loaded(program, findings, archive=others, data=data)
 
 
 def _entry(directory: Path, name: str) -> Path | None:
     """The entry ``NAME.SPF`` or ``NAME.MPF`` of ``directory`` (case-insensitive, SPF first),
-    wherever it leads."""
+    or the file as the control's file system names it, ``_N_NAME_SPF`` / ``_N_NAME_MPF`` (a
+    machine builder's archive copied from the control), wherever it leads."""
     if not name or any(ch in name for ch in "/\\:") or name in (".", ".."):
         return None
-    wanted = {name.upper() + s for s in PROGRAM_SUFFIXES}
     try:
         entries = sorted(os.listdir(directory))
     except OSError:
         return None
+    upper = name.upper()
     for suffix in PROGRAM_SUFFIXES:  # SPF before MPF
+        wanted = (upper + suffix, "_N_" + upper + "_" + suffix[1:])
         for entry in entries:
-            if entry.upper() == name.upper() + suffix and entry.upper() in wanted:
+            if entry.upper() in wanted:
                 p = directory / entry
                 if p.is_file() or p.is_symlink():  # a link is judged by where it leads
                     return p
     return None
 
 
+def program_stem(entry: str) -> str | None:
+    """The program name of a file name: ``NAME`` of ``NAME.SPF``/``NAME.MPF`` and of the
+    control's ``_N_NAME_SPF``/``_N_NAME_MPF`` (upper case), else None."""
+    e = entry.upper()
+    if e[-4:] in PROGRAM_SUFFIXES:
+        return e[:-4]
+    if e.startswith("_N_") and e[-4:] in ("_SPF", "_MPF") and len(e) > 7:
+        return e[3:-4]
+    return None
+
+
 def program_names(directory: Path) -> frozenset[str]:
-    """``NAME`` of every ``NAME.SPF``/``NAME.MPF`` in ``directory`` (upper case)."""
+    """``NAME`` of every program file in ``directory`` (upper case, :func:`program_stem`)."""
     try:
         entries = os.listdir(directory)
     except OSError:
         return frozenset()
-    return frozenset(e[:-4].upper() for e in entries if e[-4:].upper() in PROGRAM_SUFFIXES)
+    return frozenset(s for e in entries if (s := program_stem(e)) is not None)
 def names_a_path(name: str) -> bool:
     """True for a subprogram name that is a path (``CALL "../X"``, ``"/etc/x"``): vmach reads
     subprograms only beside the program, so such a name is refused as leading outside."""
@@ -136,6 +152,8 @@ class Interpreter:
         self.loaded: dict[str, Loaded] = {}
         self.stack: list[Level] = []
         self.pending: tuple | None = None
+        self.modal_call: tuple | None = None   # MCALL NAME: called after each block that moves
+        self.ret_to: tuple | None = None       # RET(target, …) of the level that ends
         self.blocks = 0
         self.archive: dict[str, tuple] = {}  # name -> (file, display, text): later programs of a file
         self.recorder = Recorder()      # commands without effect on geometry (no_effect infos)
@@ -163,6 +181,7 @@ class Interpreter:
             self.define_globals()
             main = self.load(self.path, display)
             self.push(main, SourceRef(display, 1), [])
+            self.push_data(main, display)
             self.loop()
             completed = True
         except ProgramError as exc:
@@ -189,6 +208,23 @@ class Interpreter:
                     self.setter(target)(compile_expr(node, env)())
                 except EvalError as exc:
                     raise ProgramError(exc.kind, exc.message, src) from None
+
+    def push_data(self, main: Loaded, display: str) -> None:
+        """The program's data, run before it: the data files beside it loaded when it is selected
+        (``PART.TOA``, ``PART.RPA`` …, :func:`selection_data`), then the ``_INI`` sections of its
+        own file (an archive) in file order, as the control loaded them when the archive was read
+        in (archive.data_sections)."""
+        data = selection_data(self.path, display) + [(display, d) for d in main.data]
+        for shown, d in reversed(data):
+            for line, what, count in d.skipped:
+                self.findings.append(info("archive_section", f"{d.name}: {what} not loaded ({count} block(s) "
+                                          "from here; vmach simulates channel 1 and takes machine data from "
+                                          "the machine model)", SourceRef(shown, line), section=d.name,
+                                          count=count))
+            path = self.path if shown == display else self.directory / os.path.basename(shown)
+            loaded = read_program(path, shown, self.control, d.text)
+            self.findings.extend(f for f in loaded.findings if f.severity != "info")
+            self.push(loaded, SourceRef(shown, d.line), [])
 
     def push(self, loaded: Loaded, src: SourceRef, args: list, repeat: int = 1) -> None:
         if len(self.stack) >= self.options.max_call_depth:
@@ -235,6 +271,8 @@ class Interpreter:
             level.pc = level.start
             return True
         self.stack.pop()
+        if self.modal_call is not None and len(self.stack) < self.modal_call[3]:
+            self.modal_call = None          # the level that made the call modal has ended
         if level.saved is not None:
             self.machine.restore(level.saved, src)
         if self.stack:
@@ -259,6 +297,12 @@ class Interpreter:
                     if count > limit:
                         blk = level.loaded.program.blocks[pc]
                         self.blocks = count - 1
+                        if (waited := self.nck.waited_on(count)) is not None:
+                            raise ProgramError(
+                                "unsupported", f"the program waits on {waited[0]} (read {waited[1]} times "
+                                f"in {limit} blocks), PLC data or an input the machine sets; vmach does not "
+                                "simulate the PLC (it reads what the model or setup gives, else 0)",
+                                self.src(level, blk), limit=limit, variable=waited[0])
                         raise ProgramError(
                             "block_limit",
                             f"stopped after {limit} blocks (--max-blocks); "
@@ -276,7 +320,10 @@ class Interpreter:
             if pc == CALL:
                 name, args, src, repeat, ret, how = self.pending  # type: ignore[misc]
                 level.pc = ret
-                self.call(name, args, src, repeat, how)
+                try:
+                    self.call(name, args, src, repeat, how)
+                except EvalError as exc:            # an argument the parameter cannot take
+                    raise ProgramError(exc.kind, exc.message, src) from None
                 continue
             if pc == SECTION:
                 start, stop, repeat, src, ret = self.pending  # type: ignore[misc]
@@ -298,6 +345,33 @@ class Interpreter:
                 self.out.append(canon.ProgramEnd(src, code="EOF"))
             if not self.pop(src):
                 return
+            if self.ret_to is not None:
+                self.return_to()
+
+    def return_to(self) -> None:
+        """``RET(target, after, levels, to start)`` (Fundamentals, "Parameterizable subprogram
+        return jump"): ``levels`` program levels end (1 the default), and the program returned
+        to goes on at the target block (a label or block number, searched as GOTO searches from
+        its calling block) or the block after it (``after`` 1)."""
+        (target, *rest), src = self.ret_to  # type: ignore[misc]
+        self.ret_to = None
+        after, levels, start = (list(rest) + [None, None, None])[:3]
+        if start:
+            raise ProgramError("unsupported", "RET(…, TRUE): a return to the program's start is not "
+                               "simulated", src)
+        levels = 1 if levels is None else int(levels)
+        if not 1 <= levels <= len(self.stack):
+            raise ProgramError("invalid_value", f"RET: {levels} return levels, {len(self.stack)} remain", src)
+        for _ in range(levels - 1):
+            self.pop(src)
+        level = self.stack[-1]
+        program = level.loaded.program
+        at = program.blocks[max(level.pc - 1, 0)] if program.blocks else None
+        tgt = dynamic_target(program, at, b.Jump("GOTO", "", None, src.column), target) if at else None
+        if tgt is None:
+            raise ProgramError("undefined_label", f"RET: no destination {target!r} in "
+                               f"{program.name or program.path}", src)
+        level.pc = tgt + (1 if after else 0)
 
     def src(self, level: Level, blk: b.Block, col: int = 1) -> SourceRef:
         return SourceRef(level.loaded.program.path, blk.line, col, blk.text)
@@ -396,14 +470,19 @@ class Interpreter:
         """A closure giving the landing index, or raising the control's alarm when missing."""
         if jump.variable:                         # GOTOF DEST: DEST's value at run time
             env, name, source = self.env, jump.target, SourceRef(program.path, blk.line, jump.col, blk.text)
+            get = compile_expr(jump.expr, env) if jump.expr is not None else (lambda: env.vars[name])
 
             def variable():
-                tgt = dynamic_target(program, blk, jump, env.vars[name])
+                try:
+                    value = get()
+                except EvalError as exc:
+                    raise ProgramError(exc.kind, exc.message, source) from None
+                tgt = dynamic_target(program, blk, jump, value)
                 if tgt is None:
                     if jump.how == "GOTOC":
                         return blk.index + 1
                     raise ProgramError("undefined_label", f"{jump.how} {name}: no destination "
-                                       f"{env.vars[name]!r}", source)
+                                       f"{value!r}", source)
                 return tgt
 
             return variable

@@ -47,6 +47,9 @@ TOOL_TYPES = {"flat": 120, "face": 140, "ball": 110, "bull": 121, "chamfer": 155
 #: $P_GG for a group vmach does not keep: its first code, the control's usual reset value
 UNTRACKED_GROUP = 1
 LOOSE_AXIS = re.compile(r"^[ABCUVWXYZ]\d*$")
+#: a machine axis name as the control's MD 10000 gives them by default: the channel axis's
+#: letters and a number (X1, Z1); vmach's models name each machine axis as its channel axis
+MACHINE_AXIS = re.compile(r"^([A-Z]+)\d+$")
 
 
 class Nck:
@@ -64,6 +67,8 @@ class Nck:
         self.md = control.machine_data
         self.src = SourceRef("<program>", 1)
         self.written: dict[tuple[str, Any], Any] = {}
+        self.unknowns: dict[str, Any] = {}    # written by a synchronised action (syncact.py)
+        self.plc_reads: dict[tuple, int] = {}   # (name, index) -> reads of PLC data and inputs
         self.noted: set[str] = set()
         self.uifr: dict[int, Frame] = {}
         self.ifr: Frame = sysframes.NEUTRAL      # the active settable frame ($P_IFRAME)
@@ -77,14 +82,14 @@ class Nck:
         self.timers: dict[int, tuple[float, float | None]] = {}   # n -> (value, started at s)
         self.read_kind = {
             "machine_data": self._data, "setting_data": self._data, "swivel": self._data,
-            "plc": self._data, "program": self._program, "frame": self._frame,
+            "plc": self._plc, "program": self._program, "frame": self._frame,
             "main_run": self._main_run, "tool": self._tool,
         }
         self.programs: dict[str, Callable[[SysVar, tuple], Any]] = {
             "$P_GG": self._gg, "$P_TOOL": lambda v, i: machine.edge,
             "$P_TOOLNO": lambda v, i: _tool_number(machine.tool),
             "$P_TOOLR": lambda v, i: self._active_radius(),
-            "$P_EP": lambda v, i: self._work(i[0]), "$P_F": lambda v, i: self._feed(),
+            "$P_EP": lambda v, i: self._modulo(i[0], self._work(i[0])), "$P_F": lambda v, i: self._feed(),
             "$P_S": lambda v, i: machine.spindles.get(i[0] if i else machine.master, [0.0])[0],
             "$P_SEARCH": _zero, "$P_PROG_EVENT": _zero, "$P_DRYRUN": _zero, "$P_ISTEST": _zero,
             "$P_SEARCHL": _zero,
@@ -98,6 +103,8 @@ class Nck:
             "$P_TOOLL": lambda v, i: self._active_dp(2 + i[0]) if 1 <= i[0] <= 3 else 0.0,
             "$P_AD": lambda v, i: self._active_dp(i[0]),
             "$P_NUM_SPINDLES": lambda v, i: len(machine.spindles),
+            "$P_TOOLEXIST": lambda v, i: int(self._edges(i[0]) > 0),
+            "$P_TOOLND": lambda v, i: self._edges(i[0]),
         }
 
     # -- compiling: closures for a read and a write -------------------------------------------
@@ -170,6 +177,10 @@ class Nck:
                 return a
             if a.startswith("AX") and a[2:].isdigit() and 1 <= int(a[2:]) <= len(names):
                 return names[int(a[2:]) - 1]
+            if a.startswith("SP") and a[2:].isdigit() and int(a[2:]) in self.control.spindles:
+                return a                # a spindle as a machine axis (SPI(1) = SP1)
+            if (m := MACHINE_AXIS.match(a)) and m.group(1) in self.machine.specs:
+                return m.group(1)       # the machine axis X1 of channel axis X (MD 10000's names)
             if not self.control.strict_axes and LOOSE_AXIS.match(a):
                 return a            # no machine given: any axis letter is an axis (as in words)
             raise EvalError("unknown_axis", f"{what}[{v}]: {v} is not an axis of this machine")
@@ -202,15 +213,44 @@ class Nck:
                                       src, name=var.name))
         return var.default
 
+    def _edges(self, tool: int) -> int:
+        """The cutting edges D1, D2 … the run's tool library gives tool number ``tool`` (0 when
+        the library does not hold it, or no library was given)."""
+        lookup = self.options.tool_data
+        if lookup is None or tool <= 0:
+            return 0
+        n = 0
+        while n < 12 and lookup(str(tool), n + 1) is not None:
+            n += 1
+        return n
+
+    def _plc(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
+        key = (var.name, idx)
+        self.plc_reads[key] = self.plc_reads.get(key, 0) + 1
+        return self._data(var, idx, src)
+
+    def waited_on(self, blocks: int) -> tuple[str, int] | None:
+        """(name, reads) of the PLC datum or input the program read most, when it read it in
+        at least one block of 20 of the ``blocks`` run: a program that waits for the PLC or an
+        input (``WHILE $A_DBB[11]==0``), which on vmach never changes."""
+        if not self.plc_reads:
+            return None
+        (name, idx), count = max(self.plc_reads.items(), key=lambda kv: kv[1])
+        if count * 20 < blocks:
+            return None
+        return (f"{name}[{', '.join(map(str, idx))}]" if idx else name), count
+
     def _program(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
         return self.programs[var.name](var, idx)
 
     def _main_run(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
         name = var.name
-        if name == "$AA_IM":
-            return self.machine.pos.get(idx[0], 0.0)
+        if name == "$AC_F":
+            return self._feed()
+        if name == "$AA_IM" or name == "$VA_IM":
+            return self._modulo(idx[0], self.machine.pos.get(idx[0], 0.0))
         if name == "$AA_IW":
-            return self._work(idx[0])
+            return self._modulo(idx[0], self._work(idx[0]))
         if name in ("$AC_SGEAR", "$AA_SCPAR"):
             return 1                # gear stage / parameter set 1: vmach models no gears
         if name == "$AA_S":        # actual speed: the programmed one, 0 while stopped
@@ -219,18 +259,27 @@ class Nck:
         if name == "$AC_MSNUM":
             return self.machine.master
         if name in ("$AC_CYCLE_TIME", "$AC_OPERATING_TIME"):
-            return self.clock.now()
+            return self.clock.read()
         if name in nckclock.CALENDAR:
-            return nckclock.calendar(name, self.clock.now())
+            return nckclock.calendar(name, self.clock.read())
         if name in nckclock.POWER_ON:
-            return self.clock.now() / 60.0
+            return self.clock.read() / 60.0
         if name == "$AC_CUTTING_TIME":
             self.clock.now()
             return self.clock.cutting
         if name == "$AC_TIMER":
             value, since = self.timers.get(idx[0], (0.0, None))
-            return value if since is None else value + self.clock.now() - since
-        return self.written.get((name, idx[0] if idx else ()), var.default)
+            return value if since is None else value + self.clock.read() - since
+        got = self.written.get((name, idx[0] if idx else ()), _MISSING)
+        if got is not _MISSING:
+            return got
+        return self.unknowns.get(name, var.default)
+
+    def unknown(self, name: str, value: Any) -> None:
+        """Every element of ``name`` (``$AC_MARKER``) holds ``value`` (a ``syncact.Unknown``:
+        a synchronised action may write it) until the program writes the element anew."""
+        self.written = {k: v for k, v in self.written.items() if k[0] != name}
+        self.unknowns[name] = value
 
     def _tool(self, var: SysVar, idx: tuple, src: SourceRef) -> Any:
         got = self.written.get((var.name, idx), _MISSING)
@@ -355,6 +404,15 @@ class Nck:
             if m.inch:
                 v /= INCH
         return v
+
+    def _modulo(self, axis: str, value: float) -> float:
+        """An actual value as the control shows it: within 0 ≤ v < 360 on a modulo rotary axis
+        (vmach's own values are unwrapped)."""
+        spec = self.machine.specs.get(axis)
+        if spec is None or spec.modulo is None:
+            return value
+        v = math.fmod(value, spec.modulo)
+        return v + spec.modulo if v < 0 else v + 0.0
 
     def _feed(self) -> float:
         return self.machine.feed / INCH if self.machine.inch else self.machine.feed

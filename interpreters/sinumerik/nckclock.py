@@ -21,6 +21,9 @@ from typing import Any
 from vmach import canon
 
 DEFAULT_RAPID = 10000.0       # MD32000 MAX_AX_VELO default, mm/min
+#: the interpolation cycle, s (MD10050/10070 as delivered): reading a main-run variable stops the
+#: preprocessing until the main run has caught up, at least one cycle
+IPO_CYCLE = 0.004
 #: the instant a run starts at (its control's clock, ``$A_YEAR`` …): fixed, so a run is reproducible
 START = datetime(2000, 1, 1)
 CALENDAR = ("$A_YEAR", "$A_MONTH", "$A_DAY", "$A_HOUR", "$A_MINUTE", "$A_SECOND", "$A_MSECOND")
@@ -54,6 +57,16 @@ class Clock:
         self.mode = "per_minute"
         self.speeds: dict[int, float] = {}
         self.master = master
+        self.read_at = -1       # len(commands) at the last read of the clock by the program
+
+    def read(self) -> float:
+        """``now()`` as the program reads it: a read with nothing emitted since the last one
+        (a loop that waits on the clock) comes one interpolation cycle later, as the implicit
+        preprocessing stop makes it on the control."""
+        if self.read_at == len(self.commands):
+            self.total += IPO_CYCLE
+        self.read_at = len(self.commands)
+        return self.now()
 
     def now(self) -> float:
         """Seconds from the program start to the end of the last command emitted."""

@@ -61,6 +61,8 @@ class Grammar:
     def __init__(self, control: ControlSpec, programs: frozenset[str] = frozenset()):
         self.control = control
         self.axes = {a.name for a in control.axes} | set(control.geometry)
+        #: AX1, AX2 …: the machine axes by number (Fundamentals, "Axis identifiers")
+        self.numbered = {f"AX{k}": a.name for k, a in enumerate(control.axes, start=1)}
         self.strict = control.strict_axes
         self.cycles = control.cycles
         self.gcodes = control.gcodes
@@ -144,6 +146,10 @@ class BlockParser:
 
     def parse(self, block: b.Block, code: str) -> None:
         self.toks = tokenize(code, self.src, self.is_name)
+        if "AX" in code.upper():    # AX2=10, POS[AX3]: the machine axis of that number
+            numbered = self.g.numbered
+            self.toks = [Token(IDENT, numbered[t.text], t.col) if t.kind == IDENT and t.text in numbered
+                         and t.text not in self.variables else t for t in self.toks]
         self.pos = 0
         if self.is_op("/"):
             block.skip = True
@@ -238,6 +244,12 @@ class BlockParser:
         elif name == "RET":
             block.kind = "nc"
             block.items.append(b.Keyword(t.col, "RET"))
+            if self.is_op("("):     # RET(target, after, levels, to start): where the caller goes on
+                args = self.arguments()
+                if not args or args[0] is None or len(args) > 4:
+                    self.fail("syntax", "RET(target block, block after it, levels, to start) needs the "
+                              "target", t.col)
+                block.items.append(b.Builtin(t.col, "RET", tuple(args)))
             self.expect_end("RET")
         elif name == "CALL" and self.tok.kind == IDENT and self.tok.text == "BLOCK":
             self.pos += 1
@@ -306,6 +318,9 @@ class BlockParser:
             if m:
                 return b.Jump(t.text, tgt.text, int(m.group(1)), tgt.col)
             return b.Jump(t.text, tgt.text, None, tgt.col)
+        if (tgt.kind == OP and tgt.text == "(") or (tgt.kind == STR and self.is_op("<<", 1)):
+            node = self.expr()                    # GOTOF ("LB"<<R1): a destination computed at run time
+            return b.Jump(t.text, "(expression)", None, tgt.col, variable=True, expr=node)
         if tgt.kind == STR:
             self.pos += 1
             return b.Jump(t.text, tgt.value.upper(), None, tgt.col)
@@ -449,13 +464,21 @@ class BlockParser:
 
     def modal_call(self, t: Token) -> b.Call:
         """``MCALL CYCLE81(...)`` (a drilling cycle called after every following positioning
-        block) or ``MCALL`` alone (off): a cycle call named ``MCALL`` / ``MCALL CYCLE81``."""
+        block) or ``MCALL`` alone (off): a cycle call named ``MCALL`` / ``MCALL CYCLE81``;
+        ``MCALL L10`` / ``MCALL NAME(args)`` of a subprogram: a call with ``how`` "MCALL"."""
         if self.tok.kind == END:
             return b.Call(t.col, "MCALL", (), cycle=True)
         target = self.tok
-        if target.kind != IDENT or not self.is_op("(", 1) or target.text not in {*DRILLING, *MODAL_CYCLES}:
+        simulated = {*DRILLING, *MODAL_CYCLES}
+        if target.kind == IDENT and target.text in self.g.programs and target.text not in simulated:
+            # MCALL L10 / MCALL NAME(args): a subprogram (a simulated cycle stays the cycle, as in a call)
+            self.pos += 1
+            args = self.arguments() if self.is_op("(") else ()
+            return b.Call(target.col, target.text, tuple(args), how="MCALL")
+        if target.kind != IDENT or not self.is_op("(", 1) or target.text not in simulated:
             self.fail("unsupported", "MCALL is simulated for the drilling, boring and tapping cycles "
-                      f"({', '.join(sorted({*DRILLING, *MODAL_CYCLES}))}) only", target.col)
+                      f"({', '.join(sorted(simulated))}) and the subprograms beside the "
+                      "program only", target.col)
         self.pos += 1
         call = self.call_with_args(target)
         return b.Call(t.col, f"MCALL {call.name}", call.args, cycle=True)

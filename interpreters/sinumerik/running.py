@@ -27,7 +27,11 @@ class Running(Protocol):
     out: list                 # canonical commands (vmach.canon), in order
     stack: list               # interpreter.Level, innermost last
     pending: tuple | None     # the call a block asks for (compile.CALL)
+    modal_call: tuple | None  # MCALL of a subprogram: (name, args, source, stack depth)
+    ret_to: tuple | None      # RET(target, after, levels, to start): (values, source)
     recorder: Any             # commands.Recorder: commands without geometric effect
+    findings: list            # vmach.findings.Finding of the run, in order
+    nck: Any                  # nck.Nck: the system variables
     sandbox: Any              # sandbox.Sandbox: the run's in-memory files
 
     def setter(self, target: b.Target) -> Callable[[Any], None]:

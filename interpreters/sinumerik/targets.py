@@ -70,6 +70,8 @@ def targets(self, v, src: SourceRef, suppress: bool) -> dict:
             spec = self.specs[name]
             new[name] = 0.0
         if not isinstance(value, (int, float)) or isinstance(value, bool):
+            if hasattr(value, "what"):       # syncact.Unknown: a synchronised action's variable
+                raise ProgramError("unsupported", value.what, src.at(word.col))
             raise ProgramError("type_error", f"{name} needs a number", src.at(word.col))
         mode = word.mode
         if name in g:

@@ -36,8 +36,10 @@ def test_headers():
 def test_an_archive_runs_its_first_program_and_calls_the_others(tmp_path):
     r = ok(tmp_path, ARCHIVE, name="PART.ARC")
     assert [(m.axes["X"], m.source.line) for m in moves(r)] == [(1.0, 3), (5.0, 9)]
-    notes = [(f.kind, f.line, f.severity) for f in check(tmp_path, ARCHIVE, name="PART.ARC")]
-    assert notes == [("archive_section", 11, "info")]
+    assert check(tmp_path, ARCHIVE, name="PART.ARC") == []     # its GUD section is read (definitions.py)
+    other = ARCHIVE + "%_N_PART_JOB\n;a job list\n"
+    notes = [(f.kind, f.line, f.severity) for f in check(tmp_path, other, name="PART.ARC")]
+    assert notes == [("archive_section", 13, "info")]
 
 
 def test_a_program_saved_with_its_header_reads_as_without(tmp_path):

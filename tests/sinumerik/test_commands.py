@@ -139,7 +139,7 @@ def test_gotos_jumps_back_to_the_program_start(tmp_path):
     assert [m.axes["X"] for m in moves(r)] == [1.0, 2.0, 3.0]
 
 
-@pytest.mark.parametrize("block", ["ID=1 WHENEVER $AA_IM[X]>10 DO $A_OUT[1]=1", "MEAS=1 G1 X10 F100",
+@pytest.mark.parametrize("block", ["ID=1 WHENEVER $AA_IM[X]>10 DO POS[Y]=5", "MEAS=1 G1 X10 F100",
                                    "ORIRESET(0,0)", "PRESETON(X,0)"])
 def test_synchronised_actions_measuring_and_carriers_are_unsupported(tmp_path, block):
     assert [(f.kind, f.line) for f in check(tmp_path, f"G0 X1\n{block}\nM30\n")] == [("unsupported", 2)]

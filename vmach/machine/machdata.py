@@ -92,6 +92,7 @@ def derive(spec: ModelSpec, given: Mapping[str, Any]) -> dict[str, Any]:
         "$MN_AXCONF_MACHAX_NAME_TAB": dict(enumerate(names)),
         "$MC_AXCONF_CHANAX_NAME_TAB": dict(enumerate(names)),
         "$MC_AXCONF_GEOAX_NAME_TAB": dict(enumerate(control.geometry)),
+        "$MC_AXCONF_MACHAX_USED": {k: k + 1 for k in range(len(names))},
         "$MC_SPIND_DEF_MASTER_SPIND": control.master_spindle,
         "$MC_DIAMETER_AX_DEF": control.transverse or "",
         "$MA_IS_ROT_AX": {a.name: int(a.kind == "rotary") for a in control.axes},
