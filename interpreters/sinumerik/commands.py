@@ -27,15 +27,15 @@ import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from interpreters.sinumerik import approach, sandbox
+from interpreters.sinumerik import approach, sandbox, surface
 from interpreters.sinumerik import blocks as b
-from interpreters.sinumerik import surface
 from interpreters.sinumerik.cycles import NAMES as MILLING
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, Node, compile_expr
 from interpreters.sinumerik.language import CODES, COMMANDS
 from interpreters.sinumerik.lexer import IDENT, NUM, OP, STR
+from interpreters.sinumerik.turning import NAMES as TURNING
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.findings import Finding, info
@@ -336,7 +336,7 @@ def not_found(name: str, how: str, programs, control) -> tuple[str, str]:
         return "unsupported", (f"{name} is a cycle of the control (Siemens, ShopMill/ShopTurn or the "
                                "machine maker's) that vmach does not simulate and that is not beside the "
                                "program")
-    pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *MILLING, *COMMANDS})
+    pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *MILLING, *TURNING, *COMMANDS})
     close = difflib.get_close_matches(name, pool, n=1, cutoff=0.75)
     hint = f"; did you mean {close[0]}?" if close else ""
     return "unknown_cycle", (f"{name} is no Sinumerik command, no cycle the machine declares and no "

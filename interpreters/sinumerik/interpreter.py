@@ -126,6 +126,7 @@ class Interpreter:
         self.findings: list[Finding] = []
         self.machine = Machine(control, self.out)
         self.machine.tool_radius_of = options.tool_radius
+        self.machine.tool_data_of = options.tool_data
         self.nck = Nck(control, self.machine, options, self.findings, lambda: len(self.stack) - 1,
                        self.passed)
         self.env.sys = self.nck
