@@ -12,7 +12,16 @@ unless the cycle is G7x.1 (no pockets) or G7x.2 (only pockets). Points are compl
 
 from __future__ import annotations
 
-from interpreters.rs274ngc.g7x_segments import TOL, Arc, G7xError, Line, Segment, Sink, dv, sc
+from interpreters.rs274ngc.g7x_segments import TOL, Arc, G7xError, Line, Segment, Sink, cpp, dv, sc
+
+
+#: the most passes of :meth:`G7xPath._pocket`'s loop one cycle may take: on some contours
+#: LinuxCNC 2.9 loops for ever without moving (vmach stops with :class:`G7xRunaway`)
+MAX_STEPS = 200_000
+
+
+class G7xRunaway(G7xError):
+    """A cycle that would not end (LinuxCNC 2.9 loops for ever on it)."""
 
 
 class _Mapped(Sink):
@@ -53,10 +62,15 @@ class G7xPath:
         self.escape = complex(0.3, 0.3)
         self.state = 0
         self.pocket_starts: list[complex] = []
+        #: where LinuxCNC's own debugging line goes when it drops an element that turned
+        #: back ("Oops (dz,dx)" on rs274's stdout), or None
+        self.say = None
+        self.steps = 0
 
     def copy(self) -> G7xPath:
         other = G7xPath([s.dup() for s in self.segs])
         other.delta, other.escape, other.state = self.delta, self.escape, self.state
+        other.say = self.say
         return other
 
     # -- normalisation --------------------------------------------------------------------
@@ -130,6 +144,8 @@ class G7xPath:
             i = 0
             while i < len(segs) - 1:
                 if not segs[i].monotonic():
+                    if self.say is not None:
+                        self.say(f"Oops {cpp(segs[i].start - segs[i].end)}")
                     j = i - 1 if i > 0 else len(segs) - 1
                     del segs[i if segs[i].radius() < segs[j].radius() else j]
                     i = 0
@@ -211,6 +227,9 @@ class G7xPath:
                 k += 1
             cycle = 3
         while k < len(segs):
+            self.steps += 1
+            if self.steps > MAX_STEPS:
+                raise G7xRunaway(f"more than {MAX_STEPS} steps")
             while x - TOL > loc.imag:
                 x -= self.delta
             stop, loc = segs[k].dive(loc, x, out, k == 0)

@@ -99,7 +99,7 @@ class Segment:
             p.offset(self.finish)
             n.offset(self.finish)
         if (p.end - n.start).real > 1e-2:
-            raise G7xError(f"Corner finish failed at {_cpp(prev.end)}")
+            raise G7xError(f"Corner finish failed at {cpp(prev.end)}")
         p.trim(n)
         centre = dv(p.end + n.start, 2.0)
         p.offset(-self.finish)
@@ -109,7 +109,7 @@ class Segment:
         return centre
 
 
-def _cpp(c: complex) -> str:
+def cpp(c: complex) -> str:
     """A complex as C++ streams print it: ``(re,im)`` with 6 significant digits."""
     return f"({c.real:g},{c.imag:g})"
 

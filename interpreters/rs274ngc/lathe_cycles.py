@@ -17,7 +17,7 @@ import math
 
 from interpreters.rs274ngc import block as blk
 from interpreters.rs274ngc.diag import NgcError
-from interpreters.rs274ngc.g7x_path import G7xPath
+from interpreters.rs274ngc.g7x_path import MAX_STEPS, G7xPath, G7xRunaway
 from interpreters.rs274ngc.g7x_segments import Arc, Chamfer, Fillet, G7xError, Line, Sink, dv
 from interpreters.rs274ngc.lexer import n_label, parse_line
 
@@ -37,7 +37,7 @@ class _Machine(Sink):
     def _block(self, p: complex) -> blk.Block:
         self.moves += 1
         if self.moves > MAX_MOVES:
-            raise NgcError("g7x_too_many_moves", limit=MAX_MOVES)
+            raise NgcError("g7x_too_many_moves", limit=f"{MAX_STEPS} steps or {MAX_MOVES}")
         b = blk.Block(self.line)
         b.words["x"] = p.imag
         b.words["z"] = p.real
@@ -99,6 +99,8 @@ class LatheCycleMixin:
         if i <= 0:
             raise NgcError("g7x_error", text="I must be greater than zero.")
         path = G7xPath(segs)
+        if self.out.trace:
+            path.say = self.out.lines.append
         out = _Machine(self, block.line)
         d, e, r = w.get("d", 0.0), w.get("e", 0.0), w.get("r", 0.5)
         u, ww = w.get("u", 0.0), w.get("w", 0.0)
@@ -107,6 +109,8 @@ class LatheCycleMixin:
                 path.finish(out, x, z, d, e, w.get("p", 1.0))
             else:
                 path.rough(out, sub, x, z, u, ww, d, i, r, turn=cycle == 72)
+        except G7xRunaway:
+            raise NgcError("g7x_too_many_moves", limit=f"{MAX_STEPS} steps or {MAX_MOVES}") from None
         except G7xError as exc:
             raise NgcError("g7x_error", text=str(exc)) from None
 

@@ -101,6 +101,18 @@ def test_an_endless_contour_stops_with_an_error_at_the_cycle(tmp_path):
     assert (r.findings[-1].kind, r.findings[-1].source.line) == ("g7x_too_many_moves", 9)
 
 
+def test_a_cycle_that_loops_without_moving_stops_too(tmp_path):
+    """This G72.2 makes LinuxCNC 2.9 loop for ever without a move; vmach stops after
+    MAX_STEPS turns of its pocket loop, at the cycle's line."""
+    prog = tmp_path / "still.ngc"
+    prog.write_text("G18 G21 G90 G7\nF300\nO10 SUB\n  G1 X3.039 Z0.000\n  G1 X3.717 Z-3.865\n"
+                    "  G2 X7.517 Z-6.460 R4.433\nO10 ENDSUB\n"
+                    "G72.2 Q10 X9.316 Z2.876 D0.17 I0.97 R0.66\nM2\n")
+    r = rs274ngc.run(prog, load_control(MODELS / "lathe.toml"))
+    assert not r.completed
+    assert (r.findings[-1].kind, r.findings[-1].source.line) == ("g7x_too_many_moves", 8)
+
+
 def test_fillet_and_chamfer_words_on_a_contour_are_not_axes_for_check(tmp_path):
     prog = tmp_path / "fc.ngc"
     prog.write_text("G18 G21 F100\nO5 SUB\nG1 X10 Z0 C1\nZ-10 A2\nX20\nO5 ENDSUB\n"
