@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from interpreters.rs274ngc.g7x_segments import TOL, Arc, G7xError, Line, Segment, Sink, cpp, dv, sc
 
-
 #: the most passes of :meth:`G7xPath._pocket`'s loop one cycle may take: on some contours
 #: LinuxCNC 2.9 loops for ever without moving (vmach stops with :class:`G7xRunaway`)
 MAX_STEPS = 200_000
