@@ -109,6 +109,19 @@ class Segment:
         return centre
 
 
+def _line_circle(a: complex, b: complex, on: complex, centre: complex, near: complex) -> complex:
+    """Where the line through ``a`` and ``b`` meets the circle about ``centre`` through ``on``:
+    of the two points, the one nearer ``near`` (worked in the frame of the line at ``b``)."""
+    rot = dv((a - b).conjugate(), abs(a - b))
+    pe = (on - b) * rot
+    pc = (centre - b) * rot
+    h = _norm(pc - pe) - pc.imag * pc.imag
+    h = 0.0 if h < 0 else math.sqrt(h)
+    s1 = (pc.real + h) / rot + b
+    s2 = (pc.real - h) / rot + b
+    return s1 if abs(near - s1) < abs(near - s2) else s2
+
+
 def cpp(c: complex) -> str:
     """A complex as C++ streams print it: ``(re,im)`` with 6 significant digits."""
     return f"({c.real:g},{c.imag:g})"
@@ -183,14 +196,7 @@ class Line(Segment):
     def trim_after_arc(self, p: Arc) -> None:
         if abs(self.start - p.end) < TOL:
             return
-        rot = dv((self.start - self.end).conjugate(), abs(self.start - self.end))
-        pe = (p.end - self.end) * rot
-        pc = (p.centre - self.end) * rot
-        b = _norm(pc - pe) - pc.imag * pc.imag
-        b = 0.0 if b < 0 else math.sqrt(b)
-        s1 = (pc.real + b) / rot + self.end
-        s2 = (pc.real - b) / rot + self.end
-        self.start = p.end = s1 if abs(self.start - s1) < abs(self.start - s2) else s2
+        self.start = p.end = _line_circle(self.start, self.end, p.end, p.centre, self.start)
 
 
 class Arc(Segment):
@@ -330,14 +336,7 @@ class Arc(Segment):
     def trim_after_line(self, p: Line) -> None:
         if abs(self.start - p.end) < TOL:
             return
-        rot = dv((p.start - p.end).conjugate(), abs(p.start - p.end))
-        pe = (self.end - p.end) * rot
-        pc = (self.centre - p.end) * rot
-        b = _norm(pc - pe) - pc.imag * pc.imag
-        b = 0.0 if b < 0 else math.sqrt(b)
-        s1 = (pc.real + b) / rot + p.end
-        s2 = (pc.real - b) / rot + p.end
-        self.start = p.end = s1 if abs(self.start - s1) < abs(self.start - s2) else s2
+        self.start = p.end = _line_circle(p.start, p.end, self.end, self.centre, self.start)
 
     def trim_after_arc(self, p: Arc) -> None:
         a = abs(self.start - self.centre)
