@@ -37,6 +37,7 @@ def check_program(path: str, control: ControlSpec) -> list[Finding]:
     def report(i: int, exc: NgcError) -> None:
         findings.append(error(exc.kind, exc.message, prog.ref(i, exc.column or 1)))
 
+    contour_lines = _g7x_contour_lines(prog)
     percent = False
     ended = False
     first = next((i for i, r in enumerate(prog.raw) if r.strip()), None)
@@ -63,7 +64,8 @@ def check_program(path: str, control: ControlSpec) -> list[Finding]:
                     raise NgcError("duplicate_word", letter=letter)
                 else:
                     b.words[letter] = 0.0
-                if control.strict_axes and letter in "xyzabc" and letter.upper() not in known_axes:
+                if (control.strict_axes and letter in "xyzabc" and letter.upper() not in known_axes
+                        and not (letter in "ac" and i in contour_lines)):
                     raise NgcError("unknown_axis", axis=letter.upper())
             except NgcError as exc:
                 if not exc.column:
@@ -87,6 +89,36 @@ def check_program(path: str, control: ControlSpec) -> list[Finding]:
                               prog.ref(len(prog.raw) - 1)))
     findings.sort(key=sort_key)
     return findings
+
+
+def _g7x_contour_lines(prog: Program) -> set[int]:
+    """The lines of subroutines a G70..G72 cycle names by a constant Q: there A and C are
+    a corner's fillet and chamfer, not axes (LinuxCNC reads them so in any machine)."""
+    names: set[str] = set()
+    for i in range(len(prog.raw)):
+        line = prog.line(i)
+        if line.o is not None or line.blank or line.percent or line.error is not None:
+            continue
+        g = q = None
+        for item in line.items:
+            if item[0] == "w" and type(item[2]) is float:
+                if item[1] == "g" and 70 <= item[2] < 73:
+                    g = item[2]
+                elif item[1] == "q":
+                    q = item[2]
+        if g is not None and q is not None and q == int(q):
+            names.add(str(int(q)))
+    lines: set[int] = set()
+    inside = False
+    for i in range(len(prog.raw)):
+        o = prog.line(i).o
+        if o is not None and o.kind == "sub":
+            inside = o.name in names
+        elif o is not None and o.kind == "endsub":
+            inside = False
+        elif inside:
+            lines.add(i)
+    return lines
 
 
 def _item_col(line, k: int) -> int:

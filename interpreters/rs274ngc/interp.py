@@ -22,6 +22,7 @@ from interpreters.rs274ngc.diag import NgcError
 from interpreters.rs274ngc.execute import ExecuteMixin
 from interpreters.rs274ngc.fastpath import FastPathMixin
 from interpreters.rs274ngc.flow import FlowMixin
+from interpreters.rs274ngc.lathe_cycles import LatheCycleMixin
 from interpreters.rs274ngc.lexer import Line, n_label
 from interpreters.rs274ngc.mcodes import MCodeMixin
 from interpreters.rs274ngc.motion import MotionMixin
@@ -40,7 +41,8 @@ END = 1
 _FATAL = frozenset(("block_limit", "unreadable", "file_ended", "file_ended_percent",
                     "seeking_o_word", "percent_while_skipping"))
 class Interpreter(FastPathMixin, FlowMixin, ExecuteMixin, MotionMixin, CompMixin, CycleMixin,
-                  OffsetMixin, ContextMixin, ThreadingMixin, SplineMixin, MCodeMixin):
+                  OffsetMixin, ContextMixin, ThreadingMixin, SplineMixin, MCodeMixin,
+                  LatheCycleMixin):
     """One run of one program."""
 
     #: take the fast paths (:mod:`interpreters.rs274ngc.fastpath`); False runs every line

@@ -127,6 +127,8 @@ class MotionMixin:
             self.convert_spline(motion, block)
         elif motion == 52:
             self.convert_nurbs(52, block)
+        elif 700 <= motion <= 722:
+            self.convert_g7x(motion, block)
         elif motion == 800:
             self.out.comment("interpreter: motion mode set to none")
             self.s.motion = 800

@@ -35,6 +35,7 @@ from interpreters.sinumerik.drilling import PATTERNS
 from interpreters.sinumerik.expr import EvalError, Node, compile_expr
 from interpreters.sinumerik.language import CODES, COMMANDS
 from interpreters.sinumerik.lexer import IDENT, NUM, OP, STR
+from interpreters.sinumerik.turning import NAMES as TURNING
 from vmach import canon
 from vmach.errors import ProgramError
 from vmach.findings import Finding, info
@@ -362,7 +363,7 @@ def not_found(name: str, how: str, programs, control) -> tuple[str, str]:
         return "unsupported", (f"{name} is a cycle of the control (Siemens, ShopMill/ShopTurn or the "
                                "machine maker's) that vmach does not simulate and that is not beside the "
                                "program")
-    pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *MILLING, *COMMANDS})
+    pool = sorted({*programs, *control.cycles, *DRILLING, *PATTERNS, *MILLING, *TURNING, *COMMANDS})
     close = difflib.get_close_matches(name, pool, n=1, cutoff=0.75)
     hint = f"; did you mean {close[0]}?" if close else ""
     return "unknown_cycle", (f"{name} is no Sinumerik command, no cycle the machine declares and no "

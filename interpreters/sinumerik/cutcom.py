@@ -129,6 +129,9 @@ class Compensator:
         self.pending: Element | None = None
         self.waiting: list[tuple[Slot, canon.Command]] = []   # other-axis moves after pending
         self.approach_block = False     # the pending element is the approach (G41/G42 block)
+        #: from the nose centre to the turning tool's reference point P, program plane (mm):
+        #: with a cutting edge position the compensated path is written for P (turning/nose.py)
+        self.shift: Point = (0.0, 0.0)
 
     @property
     def state(self) -> str:
@@ -293,7 +296,7 @@ class Compensator:
         axes = self._axes(b.cmd, qb)
         if isinstance(b.cmd, canon.Traverse):
             return canon.Traverse(b.src, axes=axes)
-        centre = self.m.machine_plane(a.p1, a.end3)
+        centre = self.m.machine_plane(_add(a.p1, self.shift), a.end3)
         return canon.ArcFeed(b.src, axes=axes, plane=self.m.plane_axes, center=centre,
                              clockwise=self.m.machine_cw(self.side > 0), turns=0, feed=b.cmd.feed)
 
@@ -339,7 +342,7 @@ class Compensator:
         cmd = e.cmd
         axes = self._axes(cmd, end)
         if isinstance(cmd, canon.ArcFeed):
-            new = replace(cmd, axes=axes, center=self.m.machine_plane(e.centre, e.end3))
+            new = replace(cmd, axes=axes, center=self.m.machine_plane(_add(e.centre, self.shift), e.end3))
         else:
             new = replace(cmd, axes=axes)
         e.slot.commands.extend(e.before)
@@ -350,7 +353,7 @@ class Compensator:
         compensated point q."""
         ia, ib = self.plane
         p = list(self.m.frames.to_program(tuple(cmd.axes[n] for n in self.m.geometry)))
-        p[ia], p[ib] = q
+        p[ia], p[ib] = q[0] + self.shift[0], q[1] + self.shift[1]
         return self.m.machine_axes(cmd.axes, p)
 
     @property

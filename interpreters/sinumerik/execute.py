@@ -27,6 +27,7 @@ from interpreters.sinumerik import (
     surface,
     targets,
     tracyl,
+    turning,
 )
 from interpreters.sinumerik.corners import WORDS as CORNER_WORDS
 from interpreters.sinumerik.corners import Corners
@@ -34,6 +35,7 @@ from interpreters.sinumerik.cutcom import Compensator
 from interpreters.sinumerik.drilling import CYCLES as DRILLING
 from interpreters.sinumerik.drilling import PATTERNS, drill, pattern
 from interpreters.sinumerik.frames import IDENTITY, Frames
+from interpreters.sinumerik.turning import nose, threads
 from vmach import canon
 from vmach.canon import AxisSpec, ControlSpec
 from vmach.errors import ProgramError
@@ -136,6 +138,8 @@ class Machine:
         self.edge = 0                   # active D number (D1 after a tool change)
         #: (tool, D) -> radius (mm) for tool radius compensation; None: no tool library
         self.tool_radius_of = None
+        #: (tool, D) -> the tool library's data of the offset (RunOptions.tool_data), or None
+        self.tool_data_of = None
         self.cutcom = Compensator(self)
         self.corners = Corners(self)
         self.mcall: tuple | None = None   # (cycle, args) called after every positioning block
@@ -156,6 +160,7 @@ class Machine:
         self.sink: list = out
         self.incr_offset = increments.traverses_offset(control)   # SD42440 (increments.py)
         self.stale: dict[str, Frames] = {}
+        self.thread_lead: tuple[str, float] | None = None   # G33's lead: ("K", mm/rev)
 
     def settable_frame(self, code: str) -> tuple[dict[str, float], tuple]:
         """Translations and linear part G500/G54... select: the model's zero offsets (the NCK's
@@ -319,8 +324,10 @@ class Machine:
                 self.cutcom.deselect()
             else:
                 self.cutcom.select(comp[0], self.tool_radius(comp[0], src.at(comp[1])), src.at(comp[1]))
+                self.cutcom.shift = nose.shift(self)
         elif v.edge is not None and self.cutcom.state == "on":
             self.cutcom.radius = self.tool_radius("D", src)
+            self.cutcom.shift = nose.shift(self)
         end = None
         pause = None
         for spindle, m, col in v.ms:
@@ -374,6 +381,8 @@ class Machine:
                 pattern(self, name, args, src, cycles.modal)
             elif name in cycles.NAMES:
                 cycles.run(self, name, args, src)
+            elif name in turning.NAMES:
+                turning.run(self, name, args, src)
             elif name in ("TRACYL", "TRAORI", "CYCLE800", "TRANSMIT"):
                 out.extend(orientation.start(self, name, args, src))
                 self.placeholders = True
@@ -533,6 +542,8 @@ class Machine:
             cmd = canon.LinearFeed(src, axes=new, feed=self.feed)
         elif motion == "G0":
             cmd = canon.Traverse(src, axes=new)
+        elif motion in ("G33", "G34", "G35"):
+            cmd = threads.move(self, v, src, new)
         else:
             cmd, centre = self.arc(v, src, new, suppress, about_pole)
         a, b = self.plane_ab

@@ -143,6 +143,7 @@ class Interpreter:
         self.machine = Machine(control, self.out)
         self.machine.tool_radius_of = options.tool_radius
         self.machine.globals = self.env.globals     # the measuring cycles write _OVR/_OVI there
+        self.machine.tool_data_of = options.tool_data
         self.nck = Nck(control, self.machine, options, self.findings, lambda: len(self.stack) - 1,
                        self.passed)
         self.env.sys = self.nck

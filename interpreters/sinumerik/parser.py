@@ -26,6 +26,7 @@ from interpreters.sinumerik.language import (
 )
 from interpreters.sinumerik.lexer import END, IDENT, NUM, OP, STR, Token, number, split_comment, tokenize
 from interpreters.sinumerik.polar import POLES
+from interpreters.sinumerik.turning import NAMES as TURNING
 from vmach.canon import ControlSpec
 from vmach.errors import ProgramError
 from vmach.findings import Finding, error
@@ -46,7 +47,7 @@ _MODES = ("AC", "IC", "ACP", "ACN", "DC")
 _INTERP = {"I": "interp", "J": "interp", "K": "interp", "CR": "cr", "TURN": "turn",
            "RND": "corner", "RNDM": "corner", "CHF": "corner", "CHR": "corner", "FRC": "corner",
            "FRCM": "corner", "AP": "polar", "RP": "polar", "I1": "interp", "J1": "interp", "K1": "interp",
-           "AR": "interp"}
+           "AR": "interp", "SF": "interp"}
 _INTERP_UNSUPPORTED = {"ANG"}
 _BUILTINS = {"SETMS", "MSG", "WORKPIECE", "TRACYL", "TRAORI", "CYCLE800", "TRANSMIT"}
 # orientation words under TRAORI (orientation.py): angles, vector, cone axis, intermediate vector
@@ -494,7 +495,8 @@ class BlockParser:
             if name == "SETMS" and len(args) > 1:
                 self.fail("syntax", "SETMS takes at most one spindle number", t.col)
             return b.Builtin(t.col, name, tuple(args))
-        standard = name in DRILLING or name in PATTERNS or (name in MILLING and name not in self.g.programs)
+        standard = name in DRILLING or name in PATTERNS or (
+            (name in MILLING or name in TURNING) and name not in self.g.programs)
         return b.Call(t.col, name, tuple(args), cycle=name in self.g.cycles or standard)
 
     def arguments(self, loose: bool = False) -> tuple[Node | None, ...]:

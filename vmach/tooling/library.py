@@ -98,15 +98,19 @@ class ToolLibrary:
 
     def data(self, tool: str | int, d: int) -> dict[str, float | str] | None:
         """The control's tool data of offset D``d`` (Sinumerik ``$TC_DP``/``$TC_TP``): ``name``,
-        ``type`` (a library kind), ``length`` and ``radius`` (mm), ``teeth``. None when the tool
+        ``type`` (a library kind), ``length`` and ``radius`` (mm), ``teeth``; a turning tool also its
+        ``edge_position`` (SL 1..9). None when the tool
         or the offset is not in the library."""
         found = self.lookup(tool)
         radius = self.radius(tool, d)
         if found is None or radius is None:
             return None
         off = found.offsets.get(int(d))
-        return {"name": found.name, "type": found.kind, "length": off.length if off is not None else 0.0,
-                "radius": radius, "teeth": found.teeth}
+        out = {"name": found.name, "type": found.kind, "length": off.length if off is not None else 0.0,
+               "radius": radius, "teeth": found.teeth}
+        if getattr(found, "edge_position", None) is not None:   # a turning tool: its cutting edge
+            out["edge_position"] = found.edge_position            # position (SL 1..9)
+        return out
 
     def __getitem__(self, tool: str | int) -> Tool:
         found = self.lookup(tool)

@@ -60,8 +60,10 @@ class Call:
         return name in self.given
 
 
-def _load() -> dict[str, CycleSpec]:
-    raw = tomllib.loads((Path(__file__).with_name("parameters.toml")).read_text(encoding="utf-8"))
+def load(path: Path | None = None) -> dict[str, CycleSpec]:
+    """The cycles of a parameter file (``parameters.toml`` beside this module by default)."""
+    path = path or Path(__file__).with_name("parameters.toml")
+    raw = tomllib.loads(path.read_text(encoding="utf-8"))
     out = {}
     for name, t in raw.items():
         ps = [Parameter(n, ty, "" if ty == "string" else float(d), m) for n, ty, d, m in t["classic"]]
@@ -72,7 +74,7 @@ def _load() -> dict[str, CycleSpec]:
 
 
 #: every cycle vmach expands, by name
-SPECS: dict[str, CycleSpec] = _load()
+SPECS: dict[str, CycleSpec] = load()
 
 
 def key(name: str) -> str:
@@ -80,11 +82,12 @@ def key(name: str) -> str:
     return name.lstrip("_").upper()
 
 
-def bind(name: str, args, src: SourceRef) -> Call:
+def bind(name: str, args, src: SourceRef, specs: dict[str, CycleSpec] | None = None) -> Call:
     """The call's values by parameter (left out: the default). More values than the cycle
     has parameters is ``call_arguments``; text or a truth value for a number ``type_error``;
-    a fractional value for an "int" parameter ``cycle_parameter``."""
-    spec = SPECS[name]
+    a fractional value for an "int" parameter ``cycle_parameter``. ``specs``: where the
+    cycle is described (:data:`SPECS` by default)."""
+    spec = (specs or SPECS)[name]
     ps = spec.parameters
     if len(args) > len(ps):
         raise ProgramError("call_arguments", f"{name} takes {len(ps)} parameters, got {len(args)}", src)
