@@ -13,8 +13,9 @@ stretches of CHUNK, so that cutters are queued — and may be subtracted — as 
 
 from __future__ import annotations
 
+import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -48,6 +49,23 @@ class Settings:
     columns: bool = True
     cusp: float = tol.sweep_cusp
     fan_overcut: float = tol.fan_overcut
+    without: frozenset = field(default_factory=lambda: without_env())
+
+    def on(self, name: str) -> bool:
+        """Whether the strategy (or the coverage index, ``cover``) ``name`` may run."""
+        return name not in self.without
+
+
+#: the environment variable that switches strategies off for a measurement (comma-separated
+#: names: fans, columns, fins, cusps, axial, stacked, cover) — ``benchmarks/stock_strategies.py``
+WITHOUT = "VMACH_STOCK_WITHOUT"
+#: the names it takes
+SWITCHES = ("fans", "columns", "fins", "cusps", "axial", "stacked", "cover")
+
+
+def without_env() -> frozenset:
+    """The strategies switched off by :data:`WITHOUT` (empty: none)."""
+    return frozenset(w.strip() for w in os.environ.get(WITHOUT, "").split(",") if w.strip())
 
 
 @dataclass
@@ -97,6 +115,7 @@ class Planner:
         t0 = time.perf_counter()
         ts = self.tool_solid(tool)
         tips, axes = _checked(tips, axes, rows)
+        others = others if self.s.on("cover") else None
         rows = None if rows is None else np.asarray(rows, dtype=int)
         self.stats.paths += 1
         self.stats.poses += len(tips)
@@ -137,7 +156,8 @@ class Planner:
         else:
             poses = sp.poses
         unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-        fc = fan_runs.claim(ts, pr if s.fans else None, tips, unit, rotary, view, columns=s.columns,
+        fc = fan_runs.claim(ts, pr if s.fans and s.on("fans") else None, tips, unit, rotary, view,
+                            columns=s.columns and s.on("columns"),
                             overcut=s.fan_overcut, others=others)
         run = sp.runs
         if len(fc.runs):
@@ -149,18 +169,18 @@ class Planner:
             fr[ends] = spun(frames(tips[ends], axes[ends]), sides[ends], ts.segments)
             poses = runs.outside(poses, fc.runs)
             run = run[~runs.within(run, fc.runs)]
-        if s.trim and len(run):
+        if s.trim and len(run) and s.on("axial"):
             run, poses, k = runs.claim_axial(ts, tips, unit, run, poses, fc.runs, view)
             self.stats.axial_runs += k
-        groups = (stacked_runs(tips, unit, run, pr.length) if pr is not None and s.trim
+        groups = (stacked_runs(tips, unit, run, pr.length) if pr is not None and s.trim and s.on("stacked")
                   else [[r] for r in range(len(run))])
         self.stats.stacked_runs += len(run) - len(groups)
         p = _Path(ts, tips, axes, unit, fr, sides, poses, poses.astype(float), np.full(len(fr), np.inf),
                   np.full(len(fr), np.inf), run, groups, fc.fans, fc.columns, rows)
-        if s.trim and isinstance(tool, Tool):
+        if s.trim and isinstance(tool, Tool) and s.on("fins"):
             p.fins, k = fins.claim(tool, ts, pr, fr, rotary, fc.runs, poses, view)
             self.stats.inner_fins += k
-        if between is not None and s.trim and isinstance(tool, Tool):
+        if between is not None and s.trim and isinstance(tool, Tool) and s.on("cusps"):
             self._add_cusp_poses(p, tool, pr, rotary, fc.runs, between, others)
         return p, t0
 
