@@ -14,11 +14,11 @@ switch is read as the stock is made):
 - ``chamfer``: ``vmach verify fixtures/five_axis/chamfer_traori.mpf`` (a five-axis TRAORI
   chamfer), its report's stock seconds.
 
-Every round runs every configuration (all strategies, then each one off) on every work, the
-configurations' order rotated from round to round, so that a machine loaded by others slows
-all alike. Printed per work and configuration: the median and the spread (min–max) of the
-seconds, the cutters made, and the part's volume (mm³: an answer that moved shows there); the
-gain of a strategy is the median without it less the median with all.
+Each switch is measured against all on side by side, A B B A ... (``--rounds`` pairs), so
+that a machine loaded by others slows both alike. Printed per switch and work: the median and
+the spread (min–max) of the seconds, the cutters made, and the part's volume (mm³: an answer
+that moved shows there); the gain of a strategy is the median without it less the median
+with all on.
 """
 
 from __future__ import annotations
@@ -78,27 +78,29 @@ def main(argv=None) -> int:
     bench.PRESET.update(ACCURACY[args.accuracy].stock)
     configs = [""] + [w for w in args.only.split(",") if w]
     works = [w for w in args.work.split(",") if w]
-    res: dict = {(w, c): [] for w in works for c in configs}
+    res: dict = {}
     print(f"vmach stock strategies, each off against all on ({args.accuracy} accuracy, {args.rounds} rounds)")
     print(bench.machine_figure(), flush=True)
-    for k in range(args.rounds):
-        order = configs[k % len(configs):] + configs[: k % len(configs)]
-        for c in order:
-            for w in works:
-                r = run(w, c, args.accuracy)
-                res[w, c].append(r)
-                print(f"  round {k + 1} {w:<9s} without {c or '-':<8s} {r['seconds']:7.2f} s "
-                      f"{r['cutters']:6d} cutters volume {r['volume']:.3f}", flush=True)
+    for c in configs[1:]:
+        # all on and this one off, side by side: A B B A ... (the machine's load drifts)
+        for k in range(args.rounds):
+            for cc in (("", c) if k % 2 == 0 else (c, "")):
+                for w in works:
+                    r = run(w, cc, args.accuracy)
+                    res.setdefault((w, c, cc), []).append(r)
+                    print(f"  {c:<8s} round {k + 1} {w:<9s} without {cc or '-':<8s} {r['seconds']:7.2f} s "
+                          f"{r['cutters']:6d} cutters volume {r['volume']:.3f}", flush=True)
     print(bench.machine_figure(), flush=True)
-    for w in works:
-        base = statistics.median(r["seconds"] for r in res[w, ""])
-        print(f"\n{w}: median s (min-max), cutters, volume; gain = median without - median all")
-        for c in configs:
-            s = [r["seconds"] for r in res[w, c]]
-            med = statistics.median(s)
-            last = res[w, c][-1]
-            print(f"  without {c or '- (all on)':<12s} {med:7.2f} ({min(s):.2f}-{max(s):.2f})  "
-                  f"{last['cutters']:6d} cutters  volume {last['volume']:.3f}  gain {med - base:+.2f} s")
+    for c in configs[1:]:
+        print(f"\nwithout {c}: median s (min-max), cutters, volume; gain = median without - median all on")
+        for w in works:
+            on, off = res[w, c, ""], res[w, c, c]
+            a = [r["seconds"] for r in on]
+            b = [r["seconds"] for r in off]
+            ma, mb = statistics.median(a), statistics.median(b)
+            print(f"  {w:<9s} all on {ma:7.2f} ({min(a):.2f}-{max(a):.2f}) {on[-1]['cutters']:6d} cutters | "
+                  f"off {mb:7.2f} ({min(b):.2f}-{max(b):.2f}) {off[-1]['cutters']:6d} cutters, "
+                  f"volume {off[-1]['volume']:.3f} | gain {mb - ma:+.2f} s")
     return 0
 
 

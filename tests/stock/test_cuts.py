@@ -311,54 +311,6 @@ def _plunges(xs, c=10.0, top=25.0, bottom=-20.0, retract=10.0):
     return turnmill(np.array(x), 0.0, np.array(z), np.full(len(x), c))
 
 
-def test_a_retract_along_the_tool_removes_what_the_tool_at_its_inner_pose_does(face40):
-    """A plunge and its retract out along the tool's axis: the stock lies in front of the
-    tool's back where it retracts, so the retract is cut as the tool at its inner pose (which
-    the plunge's hull holds) — the same part as with the retract's own hull, to round-off.
-    A tool whose back lies in the stock (X so small that the back face is inside it) keeps the
-    retract's hull."""
-    from vmach.stock.strategies import runs as runs_module
-
-    for xs, replaced in (([26.0], True), ([10.0], False)):
-        parts = []
-        for axial in (True, False):
-            with pytest.MonkeyPatch.context() as mp:
-                if not axial:
-                    mp.setattr(runs_module, "axial_runs", lambda tips, axes, runs: (
-                        np.zeros(len(runs), bool), np.zeros(len(runs), int)))
-                stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
-                stock.cut(face40, *_plunges(xs))
-                parts.append(stock)
-        assert (parts[0].stats.axial_runs > 0) == replaced
-        assert parts[0].volume == pytest.approx(parts[1].volume, rel=1e-10)
-        if replaced:
-            assert parts[0].stats.cutters < parts[1].stats.cutters
-
-
-def test_plunges_repeated_deeper_along_the_tool_are_cut_as_one_hull(face40):
-    """The same plunge 1 mm deeper, three times (a roughing's passes at one C1): every line
-    along the face mill's axis crosses each plunge's hull in its whole length (5.5 mm), so
-    the three hulls' union is their hull — one cutter for the plunges and one for the moves
-    up after the retracts, the same part. Passes further apart than the tool is long are
-    not stacked."""
-    from vmach.stock import plan as plan_module
-
-    for xs, stacked in (([27.0, 26.0, 25.0], 4), ([29.0, 23.0], 0)):
-        parts = []
-        for stack in (True, False):
-            with pytest.MonkeyPatch.context() as mp:
-                if not stack:
-                    mp.setattr(plan_module, "stacked_runs", lambda tips, axes, runs, length: [
-                        [r] for r in range(len(runs))])
-                stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
-                stock.cut(face40, *_plunges(xs))
-                parts.append(stock)
-        assert parts[0].stats.stacked_runs == stacked
-        assert parts[0].volume == pytest.approx(parts[1].volume, rel=1e-10)
-        made = [p.stats.cutters + p.stats.culled for p in parts]       # cutters made, kept or not
-        assert made[0] == made[1] - stacked
-
-
 def test_a_cutter_beyond_the_stock_along_its_tool_axis_is_culled(face40):
     """After the retract, the move up at X + 10 lies wholly beyond the stock along the tool's
     axis (its face 36 mm out, the stock 30) though its box meets the stock's box: it is
