@@ -9,6 +9,7 @@ import pytest
 
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
+from vmach.stock.plan import WITHOUT
 from vmach.stock.sweep import hull_overcut, plan, scallop_bound
 from vmach.tooling import frames, place, tool_solid
 from vmach.tooling.solid import RIM_SAG
@@ -309,6 +310,27 @@ def _plunges(xs, c=10.0, top=25.0, bottom=-20.0, retract=10.0):
         x += [xv, xv, xv + retract, xv + retract]
         z += [top, bottom, bottom, top]
     return turnmill(np.array(x), 0.0, np.array(z), np.full(len(x), c))
+
+
+def test_a_retract_along_the_tool_removes_what_the_tool_at_its_inner_pose_does(face40):
+    """A plunge and its retract out along the tool's axis: the stock lies in front of the
+    tool's back where it retracts, so the retract is cut as the tool at its inner pose (which
+    the plunge's hull holds) — the same part as with the retract's own hull, to round-off.
+    A tool whose back lies in the stock (X so small that the back face is inside it) keeps the
+    retract's hull."""
+    for xs, replaced in (([26.0], True), ([10.0], False)):
+        parts = []
+        for axial in (True, False):
+            with pytest.MonkeyPatch.context() as mp:
+                if not axial:
+                    mp.setenv(WITHOUT, "axial")
+                stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
+                stock.cut(face40, *_plunges(xs))
+                parts.append(stock)
+        assert (parts[0].stats.axial_runs > 0) == replaced
+        assert parts[0].volume == pytest.approx(parts[1].volume, rel=1e-10)
+        if replaced:
+            assert parts[0].stats.cutters < parts[1].stats.cutters
 
 
 def test_a_cutter_beyond_the_stock_along_its_tool_axis_is_culled(face40):

@@ -144,13 +144,15 @@ class Groups:
 @dataclass(frozen=True)
 class Claim:
     """What a strategy takes of a path: ``steps`` (n-1,) bool it cuts (None: none); ``held``
-    (n,) bool poses its cutters hold, no longer to be placed (None: none); what it makes —
+    (n,) bool poses its cutters hold, no longer to be placed (None: none); ``place`` (k,) int
+    poses that now are to be placed whole (an axial run's inner pose); what it makes —
     ``poses``, ``groups``, and single ``jobs`` (each (where it starts along the path, the
     job)); ``counts``: figures for :class:`vmach.stock.stats.CutStats` (name -> amount). A
     strategy may turn the poses it holds for its own travel (:meth:`Path.turn_for`)."""
 
     steps: np.ndarray | None = None
     held: np.ndarray | None = None
+    place: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     poses: Poses | None = None
     groups: Groups | None = None
     jobs: list[tuple[float, Job]] = field(default_factory=list)

@@ -67,11 +67,11 @@ class Settings:
 
 
 #: the environment variable that switches strategies off for a measurement (comma-separated
-#: names: fans, columns, fins, cusps, cover) — ``benchmarks/stock_strategies.py``
+#: names: fans, columns, fins, cusps, axial, cover) — ``benchmarks/stock_strategies.py``
 WITHOUT = "VMACH_STOCK_WITHOUT"
-#: the names it takes (a strategy's NAME, or a part of one: the columns of fans, the coverage
-#: index); runs, placed and revolved are the only way their paths are cut
-SWITCHES = ("fans", "columns", "fins", "cusps", "cover")
+#: the names it takes (a strategy's NAME, or a part of one: the columns of fans, the axial
+#: runs, the coverage index); runs, placed and revolved are the only way their paths are cut
+SWITCHES = ("fans", "columns", "fins", "cusps", "axial", "cover")
 
 
 def without_env() -> frozenset:
@@ -161,6 +161,7 @@ class Planner:
                 free.steps &= ~c.steps
             if c.held is not None:
                 free.place &= ~c.held
+            free.place[c.place] = True
             for name, amount in c.counts.items():
                 setattr(self.stats, name, getattr(self.stats, name) + amount)
             out.append(c)

@@ -125,6 +125,27 @@ def run_extremes(tips: np.ndarray, run: tuple[int, int]) -> tuple[int, int]:
     return a + int(np.argmin(t)), a + int(np.argmax(t))
 
 
+def axial_runs(tips: np.ndarray, axes: np.ndarray, runs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Translation runs (r, 2) along the tool's own axis — the tool only moves in or out along
+    itself (an approach to a cut, a retract from it) — and the pose at each one's inner end
+    (the smaller tip·axis, where the tool's end is deepest): ((r,) bool, (r,) int).
+
+    Such a run's hull is the tool at its inner pose and what its cross-section sweeps behind
+    that pose's back face (a tool's radius never shrinks from its tip toward its back, so the
+    tool moved out along itself stays within the tool there and the cylinder behind it)."""
+    if len(runs) == 0:
+        return np.zeros(0, bool), np.zeros(0, int)
+    ends = np.array([run_extremes(tips, r) for r in runs], dtype=int)
+    a = np.asarray(axes, dtype=float)[ends[:, 0]]
+    a = a / np.linalg.norm(a, axis=1, keepdims=True)
+    d = tips[ends[:, 1]] - tips[ends[:, 0]]
+    length = np.linalg.norm(d, axis=1)
+    along = np.einsum("ij,ij->i", d, a)
+    axial = np.linalg.norm(d - along[:, None] * a, axis=1) <= COLLINEAR * np.maximum(1.0, length)
+    inner = np.where(along >= 0.0, ends[:, 0], ends[:, 1])
+    return axial, inner
+
+
 # --------------------------------------------------------------------------------------------
 # Error bounds (docs/stock.md, "Error budget")
 # --------------------------------------------------------------------------------------------

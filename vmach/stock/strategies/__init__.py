@@ -17,7 +17,9 @@ the ones before left (``free``):
    strategy that may remove more than the true sweep: by at most ``tol.fan_overcut``,
    measured on every cutter made (:mod:`vmach.stock.make_fans`).
 3. :mod:`.runs` — translation runs: the hull of the tool at a run's two ends *is* the swept
-   volume of a straight move (exact); the placed poses on a run are left out.
+   volume of a straight move (exact); the placed poses on a run are left out; a run along the
+   tool's own axis with the stock in front of its back is cut as the tool at its inner pose
+   (exact: all it removes).
 4. :mod:`.fins` — placed poses of a flat-faced prism between two placed rotary steps cut as
    their fin only where the neighbours' fins hold the rest (the same material, to a sliver).
 5. :mod:`.cusps` — poses added inside placed rotary steps where a curved side (or a flat
