@@ -134,7 +134,8 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
                        fans=stock.stats.fans, fan_overcut=stock.stats.fan_overcut_mm,
                        fan_covered=stock.stats.fan_covered_mm, cusp_poses=stock.stats.cusp_poses,
                        columns=stock.stats.columns, column_cells=stock.stats.column_cells,
-                       findings=len(sim.findings), triangles=engine.num_triangles(part))
+                       findings=len(sim.findings), triangles=engine.num_triangles(part),
+                       volume=engine.volume(part))
             out["total"] = time.perf_counter() - t_all
             out["dev"] = _deviation(stock.section)
         else:  # one hull per move (ends only), one batch
@@ -162,6 +163,7 @@ def case(kind: str, n: int, program: str | None, conn) -> None:
             stock = Stock.from_spec("cylinder:d=60,l=100", **(BEFORE if kind == "helix-before" else {}))
             stock.cut(tool, tips, axes)
             engine.check(stock.solid)
+            out["volume"] = engine.volume(stock.solid)
             stock.close()
             out.update(cutters=stock.stats.cutters, sweep=stock.stats.sweep_seconds,
                        boolean=stock.stats.boolean_seconds, wait=stock.stats.wait_seconds,

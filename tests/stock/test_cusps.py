@@ -13,7 +13,7 @@ from tests.stock.conftest import turnmill
 from tests.stock.test_fans import floor_hits, true_floor
 from vmach.stock import Stock, engine
 from vmach.stock.cusps import AROUND, cusp_height, side, step_cusps, substeps
-from vmach.stock.strategies import fins as fins_strategy
+from vmach.stock.plan import WITHOUT
 from vmach.tol import ACCURACY
 from vmach.tooling import Tool, frames, tool_solid
 
@@ -240,7 +240,7 @@ def test_steps_say_which_samples_are_over_and_fins_reach_the_highest_that_counts
 
 
 class _Below:
-    """What another pass's sampled poses hold, as Stock.cut asks (Others.at_poses'
+    """What another pass's sampled poses hold, as Stock.cut asks (Coverage.at_poses'
     signature): every point below ``z`` by the margin (a stand-in for a later finishing pass
     over the flank)."""
 
@@ -458,7 +458,7 @@ def test_a_turns_placed_poses_cut_as_fins_leave_the_whole_poses_part(library, mo
     for whole in (False, True):
         with monkeypatch.context() as mp:
             if whole:
-                mp.setattr(fins_strategy, "claim", lambda tool, ts, pr, fr, *a: (np.full(len(fr), np.inf), 0))
+                mp.setenv(WITHOUT, "fins")
             stock = Stock.from_spec("cylinder:d=60,l=60", fans=False, arcs=arcs)
             stock.cut(tool, tips, axes)
         cuts.append(stock)
@@ -552,7 +552,7 @@ def test_placed_steps_are_parted_against_the_feet_their_rim_leaves(library):
         return stock
 
     m = _advancing_turn(library, 26.3, 26.0)
-    feet, plain = cut(m, Sweeps([m]).others(0)), cut(m, None)
+    feet, plain = cut(m, Sweeps([m]).coverage(0)), cut(m, None)
     dense = cut(_advancing_turn(library, 26.3, 26.0, 8), None)
     assert feet.stats.foot_steps == len(m.tips) - 1 and plain.stats.foot_steps == 0
     assert feet.stats.cusp_poses > plain.stats.cusp_poses
@@ -575,8 +575,8 @@ def test_feet_another_pass_cuts_again_need_no_poses(library):
     finish = _turn_motion(tool, 25.9, 0.8, -27.5, np.arange(-5.0, 65.0, 1.713))
     sweeps = Sweeps([first, finish])
     stock = Stock.from_spec("cylinder:d=60,l=60", fans=False, cusp=0.0035, chord=0.004, arcs=True)
-    stock.cut(tool, first.tips, first.axes, _between(first.q, first.fk), sweeps.others(0))
+    stock.cut(tool, first.tips, first.axes, _between(first.q, first.fk), sweeps.coverage(0))
     assert stock.stats.foot_steps == 0
     alone = Stock.from_spec("cylinder:d=60,l=60", fans=False, cusp=0.0035, chord=0.004, arcs=True)
-    alone.cut(tool, first.tips, first.axes, _between(first.q, first.fk), Sweeps([first]).others(0))
+    alone.cut(tool, first.tips, first.axes, _between(first.q, first.fk), Sweeps([first]).coverage(0))
     assert alone.stats.foot_steps > 0

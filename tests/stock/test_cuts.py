@@ -9,6 +9,7 @@ import pytest
 
 from tests.stock.conftest import turnmill
 from vmach.stock import Stock, engine
+from vmach.stock.plan import WITHOUT
 from vmach.stock.sweep import hull_overcut, plan, scallop_bound
 from vmach.tooling import frames, place, tool_solid
 from vmach.tooling.solid import RIM_SAG
@@ -317,15 +318,12 @@ def test_a_retract_along_the_tool_removes_what_the_tool_at_its_inner_pose_does(f
     the plunge's hull holds) — the same part as with the retract's own hull, to round-off.
     A tool whose back lies in the stock (X so small that the back face is inside it) keeps the
     retract's hull."""
-    from vmach.stock.strategies import runs as runs_module
-
     for xs, replaced in (([26.0], True), ([10.0], False)):
         parts = []
         for axial in (True, False):
             with pytest.MonkeyPatch.context() as mp:
                 if not axial:
-                    mp.setattr(runs_module, "axial_runs", lambda tips, axes, runs: (
-                        np.zeros(len(runs), bool), np.zeros(len(runs), int)))
+                    mp.setenv(WITHOUT, "axial")
                 stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
                 stock.cut(face40, *_plunges(xs))
                 parts.append(stock)
@@ -333,30 +331,6 @@ def test_a_retract_along_the_tool_removes_what_the_tool_at_its_inner_pose_does(f
         assert parts[0].volume == pytest.approx(parts[1].volume, rel=1e-10)
         if replaced:
             assert parts[0].stats.cutters < parts[1].stats.cutters
-
-
-def test_plunges_repeated_deeper_along_the_tool_are_cut_as_one_hull(face40):
-    """The same plunge 1 mm deeper, three times (a roughing's passes at one C1): every line
-    along the face mill's axis crosses each plunge's hull in its whole length (5.5 mm), so
-    the three hulls' union is their hull — one cutter for the plunges and one for the moves
-    up after the retracts, the same part. Passes further apart than the tool is long are
-    not stacked."""
-    from vmach.stock import plan as plan_module
-
-    for xs, stacked in (([27.0, 26.0, 25.0], 4), ([29.0, 23.0], 0)):
-        parts = []
-        for stack in (True, False):
-            with pytest.MonkeyPatch.context() as mp:
-                if not stack:
-                    mp.setattr(plan_module, "stacked_runs", lambda tips, axes, runs, length: [
-                        [r] for r in range(len(runs))])
-                stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
-                stock.cut(face40, *_plunges(xs))
-                parts.append(stock)
-        assert parts[0].stats.stacked_runs == stacked
-        assert parts[0].volume == pytest.approx(parts[1].volume, rel=1e-10)
-        made = [p.stats.cutters + p.stats.culled for p in parts]       # cutters made, kept or not
-        assert made[0] == made[1] - stacked
 
 
 def test_a_cutter_beyond_the_stock_along_its_tool_axis_is_culled(face40):

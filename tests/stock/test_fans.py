@@ -19,14 +19,21 @@ from vmach.stock import Stock, engine
 from vmach.stock import make_fans as make_fans_module
 from vmach.stock.fan import Prism, back_clear, plan_fans, prism
 from vmach.stock.fan_measure import EPS, covered
+from vmach.stock.plan import WITHOUT
 from vmach.stock.strategies import fans as fans_strategy
-from vmach.stock.strategies import fins as fins_strategy
 from vmach.stock.sweep import scallop_bound
 from vmach.stock.view import View
 from vmach.tol import tol
 from vmach.tooling import Tool, tool_solid
 
 FINE = 0.0005   # tool polygon fine enough that the twist, not the polygon, dominates
+
+
+class _EverySwept:
+    """A coverage index (:class:`vmach.stock.sweeps.Coverage`) for which every rim band is swept."""
+
+    def swept(self, groups, omega):
+        return np.ones(len(groups), bool)
 
 
 def test_flat_faced_prisms_are_recognised(library):
@@ -200,7 +207,7 @@ def test_a_run_that_cannot_fit_falls_back_to_placed_poses(helix_cut, monkeypatch
     for kw in ({"fan_overcut": 1e-9}, {"fans": False}, {"fans": False, "whole": True}):
         with monkeypatch.context() as mp:
             if kw.pop("whole", False):
-                mp.setattr(fins_strategy, "claim", lambda tool, ts, pr, fr, *a: (np.full(len(fr), np.inf), 0))
+                mp.setenv(WITHOUT, "fins")
             stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01, **kw)
             stock.cut(tool, tips, axes)
         vols.append(stock.volume)
@@ -583,7 +590,7 @@ def test_what_another_paths_true_tool_sweeps(library):
 
 
 def test_recut_asks_for_a_margin_and_keeps_a_paths_own_pass_apart(library):
-    """Others.recut: a point 0.01 mm above the D25's floor (z = -40) is held by another
+    """Coverage.recut: a point 0.01 mm above the D25's floor (z = -40) is held by another
     path's sampled poses with no margin, not with 0.02 mm; the same turn given as the path's
     own is no recut within ``gap`` of the point's step (its own pass) — ``near`` asks that
     pass alone — and is one beyond it (a second pass, one full turn later)."""
@@ -595,14 +602,14 @@ def test_recut_asks_for_a_margin_and_keeps_a_paths_own_pass_apart(library):
     z = np.array([0.0, 0.0, 1.0])
     a = np.radians(c[10])                                   # under a sampled pose's axis
     point = np.array([[26.0 * np.cos(a), 26.0 * np.sin(a), -39.99]])
-    other = Sweeps([_turn_motion(tool, 30.0, 0.0, -60.0, c), turn]).others(0)
+    other = Sweeps([_turn_motion(tool, 30.0, 0.0, -60.0, c), turn]).coverage(0)
     assert other.recut(point, [10], z, np.array([0.0]), 50.0).tolist() == [True]
     assert other.recut(point, [10], z, np.array([0.02]), 50.0).tolist() == [False]
-    own = Sweeps([turn]).others(0)
+    own = Sweeps([turn]).coverage(0)
     assert own.recut(point, [10], z, np.array([0.0]), 50.0).tolist() == [False]
     assert own.recut(point, [10], z, np.array([0.0]), 50.0, near=True).tolist() == [True]
     twice = np.r_[c, c + 360.0]
-    again = Sweeps([_turn_motion(tool, 25.0, 0.0, -27.5, twice)]).others(0)
+    again = Sweeps([_turn_motion(tool, 25.0, 0.0, -27.5, twice)]).coverage(0)
     assert again.recut(point, [10], z, np.array([0.0]), 50.0).tolist() == [True]
 
 
@@ -625,7 +632,7 @@ def test_at_poses_holds_what_another_paths_sampled_poses_hold(library):
     assert sweeps.at_poses(pts, 0, np.zeros(3)).tolist() == [True, False, False]
     assert sweeps.at_poses(pts, 0, np.full(3, 0.02)).tolist() == [False, False, False]
     assert not sweeps.at_poses(pts, 1, np.zeros(3)).any()
-    assert sweeps.others(0).at_poses(pts, np.zeros(3)).tolist() == [True, False, False]
+    assert sweeps.coverage(0).at_poses(pts, np.zeros(3)).tolist() == [True, False, False]
     rng = np.random.default_rng(3)
     phi = np.radians(rng.uniform(-5.0, 65.0, 400))
     r = rng.uniform(24.0, 40.0, 400)
@@ -708,10 +715,10 @@ def test_a_rim_band_another_paths_tool_sweeps_is_fanned(library):
     first = (26.0, 3.0, -27.5)
     finish = (25.0, 0.0, -27.5)
 
-    def cut(sub, others=None, **kw):
+    def cut(sub, cover=None, **kw):
         c = np.arange(0.0, 60.0 * sub + 1e-9, 1.0) * 1.713 / sub
         stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.002, **kw)
-        n = stock.cut(tool, *turnmill(*first, c), others=others)
+        n = stock.cut(tool, *turnmill(*first, c), cover=cover)
         fans = stock.stats.fans
         stock.cut(tool, *turnmill(*finish, np.arange(-10.0, 120.0, 1.713 / sub)))
         return stock, n, fans
@@ -720,7 +727,7 @@ def test_a_rim_band_another_paths_tool_sweeps_is_fanned(library):
     sweeps = Sweeps([_turn_motion(tool, *first, c),
                      _turn_motion(tool, *finish, np.arange(-10.0, 120.0, 1.713))])
     plain, _, plain_fans = cut(1)
-    told, n_told, told_fans = cut(1, sweeps.others(0))
+    told, n_told, told_fans = cut(1, sweeps.coverage(0))
     dense, _, _ = cut(8, fans=False)
     assert plain_fans == 0 and told_fans > 0
     assert n_told < plain.stats.cutters - 10
@@ -750,7 +757,7 @@ def test_a_fans_end_poses_are_turned_for_its_own_steps(library, sense, phase):
     tips = np.vstack([tips, tips[-1] + [0.0, 0.0, 10.0]])          # then up along Z
     axes = np.vstack([axes, axes[-1]])
     stock = Stock.from_spec("cylinder:d=60,l=60", chord=0.01)
-    stock.cut(tool, tips, axes, others=lambda p, om: np.ones(len(p), bool))   # every rim swept
+    stock.cut(tool, tips, axes, cover=_EverySwept())   # every rim swept
     assert stock.stats.fans > 0
     lo, hi = sorted([c[0], c[-1]])
     phis = np.radians(np.linspace(lo - 15.0, hi + 15.0, 300))

@@ -4,11 +4,16 @@
 from __future__ import annotations
 
 import ast
-import importlib
+import inspect
 import pkgutil
 from pathlib import Path
 
+import pytest
+
 import vmach.stock.strategies as strategies
+from vmach.errors import InputError
+from vmach.stock.path import Bound
+from vmach.stock.plan import TABLE, WITHOUT, Settings
 
 STOCK = Path(__file__).resolve().parents[2] / "vmach" / "stock"
 
@@ -34,10 +39,31 @@ def test_modules_functions_and_classes_stay_small():
 
 
 def test_every_strategy_states_its_error_bound_and_claims():
+    """Each module of strategies/ is one line of the planner's table, in the order the package
+    states, with its NAME, its BOUND and the one door ``claim(path, free, view, cover)``;
+    placed poses come last, and only fans (and a turning path's revolution, which straddles
+    the blank's circle, and a polygonal-turning path's section, within its sag) may remove more
+    than the true sweep."""
     names = [m.name for m in pkgutil.iter_modules(strategies.__path__)]
-    assert {"runs", "fans", "fins", "cusps"} <= set(names)
-    for name in names:
-        mod = importlib.import_module(f"vmach.stock.strategies.{name}")
-        assert "Error bound" in (mod.__doc__ or ""), name
-        assert any(n.startswith("claim") for n in dir(mod)), name
-        assert f":mod:`.{name}`" in strategies.__doc__, name      # in the stated order
+    assert [m.NAME for m in TABLE] == [m.__name__.rsplit(".", 1)[1] for m in TABLE]
+    assert sorted(m.NAME for m in TABLE) == sorted(names)
+    assert TABLE[-1].NAME == "placed"
+    doc = strategies.__doc__
+    assert [doc.index(f":mod:`.{m.NAME}`") for m in TABLE] == sorted(doc.index(f":mod:`.{m.NAME}`")
+                                                                     for m in TABLE)
+    for mod in TABLE:
+        assert "Error bound" in (mod.__doc__ or ""), mod.NAME
+        assert isinstance(mod.BOUND, Bound), mod.NAME
+        assert list(inspect.signature(mod.claim).parameters) == ["path", "free", "view", "cover"], mod.NAME
+    assert {m.NAME for m in TABLE if m.BOUND.over} == {"fans", "revolved", "polygonal"}
+
+
+def test_a_strategy_is_switched_off_by_name_and_an_unknown_name_is_an_error(monkeypatch):
+    """VMACH_STOCK_WITHOUT (benchmarks/stock_strategies.py) names strategies to leave out; a
+    name it does not know is a usage error, not a measurement of something else."""
+    monkeypatch.setenv(WITHOUT, "fins, cover")
+    assert Settings().without == {"fins", "cover"} and not Settings().on("fins") and Settings().on("fans")
+    monkeypatch.setenv(WITHOUT, "fins,runs")
+    with pytest.raises(InputError) as e:
+        Settings()
+    assert e.value.kind == "usage"

@@ -65,15 +65,15 @@ class CheckedPath:
     rows are cut one by one from the local stock, and each watched row is measured on it
     exactly; the chunk is then cut from the stock as one path. ``between(offset)``: the poses
     inside sampled steps for :meth:`Stock.cut` given the samples from ``offset`` on;
-    ``others``: the coverage index of the other paths (:class:`vmach.stock.sweeps.Others`);
+    ``cover``: the coverage index of the other paths (:class:`vmach.stock.sweeps.Coverage`);
     ``pose_rows`` (poses,) int: each pose's row, which the cutters name.
     """
 
     def __init__(self, stock: Stock, tool, table, a: int, b: int, k: np.ndarray, pose, res,
-                 clearance: float = tol.near_miss, between=None, others=None, pose_rows=None):
+                 clearance: float = tol.near_miss, between=None, cover=None, pose_rows=None):
         self.stock, self.tool, self.table, self.a, self.n, self.res = stock, tool, table, a, b - a, res
         self.clearance = clearance
-        self.between, self.others, self.pose_rows = between, others, pose_rows
+        self.between, self.cover, self.pose_rows = between, cover, pose_rows
         self.tips, self.ax = pose.tip, pose.axis
         first = np.r_[0, np.cumsum(k)[:-1]]
         self.span = [(first[j], first[j] + k[j] + 1) for j in range(self.n)]
@@ -103,7 +103,7 @@ class CheckedPath:
         """Cut poses [s, e) from the stock as one path."""
         self.stock.cut(self.tool, self.tips[s:e], self.ax[s:e],
                        None if self.between is None else self.between(s),
-                       None if self.others is None else self.others.shifted(s),
+                       None if self.cover is None else self.cover.shifted(s),
                        None if self.pose_rows is None else self.pose_rows[s:e])
 
     def hold(self, s: int, e: int) -> None:

@@ -134,7 +134,7 @@ def may_fan(rotary: np.ndarray) -> bool:
 def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Prism, *,
               max_angle: float = tol.fan_angle, slides: np.ndarray | None = None,
               clear: np.ndarray | None = None, rim: float = tol.fan_overcut,
-              stock_box: np.ndarray | None = None, others=None) -> FanPlan:
+              stock_box: np.ndarray | None = None, cover=None) -> FanPlan:
     """Candidate fan runs of a path: maximal stretches of rotary steps — and, where
     ``slides`` (n-1,) bool allows, of steps that keep the axis and move the tool perpendicular
     to the rotation axis in between (a facing pass that indexes the workpiece and moves the
@@ -151,15 +151,15 @@ def plan_fans(tips: np.ndarray, axes: np.ndarray, rotary: np.ndarray, tool: Pris
     such poses join a run. rim : mm — the most the face chain may lie below the path of the
     faces' rims (:func:`vmach.stock.fan_rims.rim_standoff`), unless the path cuts the rim's
     band anyway or the band lies beyond ``stock_box`` (2, 3), the stock's bounds. Steps not in
-    a run are left to placed poses and translation hulls. others : groups of points (g, k, 3), omega -> (g,)
-    bool — whether other paths' true tools sweep every point of a group
-    (:mod:`vmach.stock.sweeps`): a rim band they sweep above ``rim`` is taken anyway.
+    a run are left to placed poses and translation hulls. cover : the coverage index
+    (:class:`vmach.stock.sweeps.Coverage`) or None: a rim band other paths' true tools sweep
+    above ``rim`` is taken anyway.
     """
     tips = np.asarray(tips, dtype=float)
     a = np.asarray(axes, dtype=float)
     if not may_fan(rotary):
         return NO_FANS
-    st = _steps(tips, a, rotary, tool, slides, clear, rim, stock_box, others)
+    st = _steps(tips, a, rotary, tool, slides, clear, rim, stock_box, cover)
     runs = _runs(st, tips, a, max_angle)
     if not runs:
         return NO_FANS
@@ -182,7 +182,7 @@ class _Steps:
 
 
 def _steps(tips: np.ndarray, a: np.ndarray, rotary, tool: Prism, slides, clear, rim: float, stock_box,
-           others) -> _Steps:
+           cover) -> _Steps:
     """Which steps may join a fan run (the arguments of :func:`plan_fans`)."""
     n = len(tips)
     cross = np.cross(a[:-1], a[1:])
@@ -213,7 +213,7 @@ def _steps(tips: np.ndarray, a: np.ndarray, rotary, tool: Prism, slides, clear, 
     band = fan_rims.rim_band(s_fwd, s_back, turn, r)
     near = np.minimum(fan_rims.rim_standoff(tips, a, angle), band) <= rim
     if not near.all():
-        near |= fan_rims.rims_covered(tips, a, w, turn, band, rim, r, ~near, tool.inner, stock_box, others)
+        near |= fan_rims.rims_covered(tips, a, w, turn, band, rim, r, ~near, tool.inner, stock_box, cover)
     return _Steps(ok & near, slide & near, w, angle, s_fwd, s_back)
 
 

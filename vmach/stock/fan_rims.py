@@ -1,6 +1,6 @@
 """The rim of a fan's flat face: where it leaves a foot the hull would take
 (:func:`rim_standoff`), and which rim bands other paths' true tools sweep anyway
-(:func:`rims_covered`, with the coverage index :class:`vmach.stock.sweeps.Others`).
+(:func:`rims_covered`, with the coverage index :class:`vmach.stock.sweeps.Coverage`).
 See :mod:`vmach.stock.fan`. Lengths mm.
 """
 
@@ -70,12 +70,12 @@ def _turns_around(turn: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.ndarray, band: np.ndarray,
                   rim: float, radius: float, which: np.ndarray, inner: float,
-                  box: np.ndarray | None = None, others=None) -> np.ndarray:
+                  box: np.ndarray | None = None, cover=None) -> np.ndarray:
     """(n-1,) bool: of the steps ``which``, those whose rim bands the path cuts anyway, or
     that lie beyond the stock's bounding ``box`` (2, 3) along omega (the tool's inscribed
     radius ``inner`` from the tip: the least the true rim reaches), or that the true tools of
-    other paths sweep (``others``: groups of points (g, k, 3), omega -> (g,) bool,
-    :meth:`vmach.stock.sweeps.Sweeps.others`) above the height ``rim`` that a band may have
+    other paths sweep (``cover``: the coverage index, :meth:`vmach.stock.sweeps.Coverage.swept`,
+    or None) above the height ``rim`` that a band may have
     anyway — points of the face chain across the band's stretch (``RIM_SAMPLES``) at heights
     from ``rim`` to the band's, just on the tool's side of the face.
 
@@ -109,14 +109,14 @@ def rims_covered(tips: np.ndarray, axes: np.ndarray, w: np.ndarray, turn: np.nda
         bottom = np.minimum(box[0] * pose_om, box[1] * pose_om).sum(axis=1)
         upper |= reach + inner - pose_band >= top
         lower |= reach - inner + pose_band <= bottom
-    if others is not None:
+    if cover is not None:
         for sign, done in ((-1.0, lower), (1.0, upper)):
             need = qs[~done[qs] & np.any(pose_om[qs], axis=1) & (pose_band[qs] > rim)]
             if len(need):
                 # from the true rim: halfway between the straddling polygon's vertices and its
                 # inscribed circle
                 done[need] = _swept_by_others(tips, axes, need, pose_om[need], sign, pose_band[need],
-                                              rim, 0.5 * (radius + inner), others)
+                                              rim, 0.5 * (radius + inner), cover)
     both = lower & upper & np.any(pose_om, axis=1)
     out = np.zeros(n - 1, bool)
     out[steps] = both[steps] & both[steps + 1]
@@ -150,15 +150,15 @@ def _cut_again(tips: np.ndarray, axes: np.ndarray, qs: np.ndarray, pose_om: np.n
 
 
 def _swept_by_others(tips: np.ndarray, axes: np.ndarray, which: np.ndarray, om: np.ndarray, sign: float,
-                     band: np.ndarray, rim: float, radius: float, others) -> np.ndarray:
+                     band: np.ndarray, rim: float, radius: float, cover) -> np.ndarray:
     """(w,) bool: of the poses ``which`` (w,) of a path (tips, unit axes (n, 3)), each with its
     omega (w, 3) and its rim's band (heights (w,) mm), those whose rim toward ``sign``·omega
-    has the band swept above ``rim`` by other paths' true tools (``others``). The band lies on
+    has the band swept above ``rim`` by other paths' true tools (``cover``). The band lies on
     the face chain — what a fan cuts to, the lowest of the face planes of the poses within
     two of it — across its stretch (as wide as the disc is at the band's top) at heights from
     ``rim`` to the band's above the true rim (``radius``): those points, 0.001 mm above the
-    chain, are asked as one group (``others``: groups (g, k, 3), omega -> (g,) bool, every
-    point swept; :meth:`vmach.stock.sweeps.Sweeps.holds_all`), the middle one first."""
+    chain, are asked as one group (:meth:`vmach.stock.sweeps.Coverage.swept`: every point
+    swept), the middle one first."""
     across, up = RIM_SAMPLES
     t, a = tips[which], axes[which]
     half = np.sqrt(np.maximum(2.0 * radius * band - band * band, 0.0))             # (w,)
@@ -174,11 +174,11 @@ def _swept_by_others(tips: np.ndarray, axes: np.ndarray, which: np.ndarray, om: 
         j = np.clip(which + off, 0, len(tips) - 1)
         depth = np.maximum(depth, np.einsum("wabi,wi->wab", pts, axes[j]) - h[j][:, None, None])
     pts = pts - (depth - 1e-3)[..., None] * a[:, None, None]
-    # the middle sample first: others' groups are looked for by their first point
+    # the middle sample first: the index looks a group up by its first point
     mid = across // 2 * up + up // 2
     flat = pts.reshape(len(which), -1, 3)
     flat = np.concatenate([flat[:, mid : mid + 1], np.delete(flat, mid, axis=1)], axis=1)
     out = np.zeros(len(which), bool)
     for o, grp in by_axis(om):
-        out[grp] = others(flat[grp], o)
+        out[grp] = cover.swept(flat[grp], o)
     return out

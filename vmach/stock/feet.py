@@ -14,7 +14,7 @@ advances.
 Most feet are cut again — by the next turn of a helix, by a later pass — so a step is parted
 (:func:`parts`) only for feet whose right angle may lie in the stock, that the step's own
 true tool sweeps, and that no sampled pose of another path, or of this path's other passes,
-holds (:meth:`vmach.stock.sweeps.Others.recut`). Lengths mm.
+holds (:meth:`vmach.stock.sweeps.Coverage.recut`). Lengths mm.
 """
 
 from __future__ import annotations
@@ -79,7 +79,7 @@ def rim_feet(frames_a: np.ndarray, frames_b: np.ndarray, radius: float, segments
 
 
 def parts(tool: Tool, ts: ToolSolid, fr: np.ndarray, idx: np.ndarray, cusp: float, chord: float, holds,
-          others, between) -> np.ndarray:
+          cover, between) -> np.ndarray:
     """(s,) int: parts to cut the placed rotary steps ``idx`` (s,) of a path (frames ``fr``
     (n, 3, 4), turned as placed poses are) into so that the feet of ``tool``'s flat face
     (:func:`rim_feet`; none for a pointed tool) stay within ``cusp`` mm — counting only feet
@@ -87,9 +87,9 @@ def parts(tool: Tool, ts: ToolSolid, fr: np.ndarray, idx: np.ndarray, cusp: floa
     step's own true tool sweeps (at CHECKS poses within it, ``between`` as
     :meth:`vmach.stock.Stock.cut` takes it: off the lateral the section's triangle may lie in
     front of the surface the pass leaves) and that no sampled pose holds, ``chord`` inside its
-    true tool (``others``: :class:`vmach.stock.sweeps.Others` — its own pass's around the step,
-    another path's, or this path's on another pass, its tip more than twice the tool's reach
-    along the path away). The feet of the last pass over a surface are what is left."""
+    true tool (``cover``: the coverage index, :class:`vmach.stock.sweeps.Coverage` — its own
+    pass's around the step, another path's, or this path's on another pass, its tip more than
+    twice the tool's reach along the path away). The feet of the last pass over a surface are what is left."""
     out = np.ones(len(idx), int)
     radius = cusps.face_radius(tool)
     if radius <= 0.0 or len(idx) == 0:
@@ -112,9 +112,9 @@ def parts(tool: Tool, ts: ToolSolid, fr: np.ndarray, idx: np.ndarray, cusp: floa
     taken = np.zeros(len(step), bool)
     for unit, grp in by_axis(om, np.linalg.norm(om, axis=1) > 1e-9):
         # held by this pass's own poses around the step (its curved rim), or another pass's
-        taken[grp] = others.recut(apex[grp], idx[step[grp]], unit, chord, gap, near=True)
+        taken[grp] = cover.recut(apex[grp], idx[step[grp]], unit, chord, gap, near=True)
         rest = grp[~taken[grp]]
-        taken[rest] = others.recut(apex[rest], idx[step[rest]], unit, chord, gap)
+        taken[rest] = cover.recut(apex[rest], idx[step[rest]], unit, chord, gap)
     step, sample = step[~taken], sample[~taken]
     m = np.ceil(feet.foot[step, sample] / cusp - 1e-9).astype(int)
     np.maximum.at(out, step, np.minimum(m, cusps.MOST))

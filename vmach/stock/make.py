@@ -14,10 +14,9 @@ from vmach.stock import engine
 from vmach.stock.clip import Shape, clip, shape, sweep_shape
 from vmach.stock.cusps import FIN_LEAST
 from vmach.stock.fan import prism
-from vmach.stock.jobs import ColumnJob, Cutter, Fan, Job, Placed, Polygonal, Revolved, Runs
+from vmach.stock.jobs import ColumnJob, Cutter, Fan, Job, Placed, Runs
 from vmach.stock.make_fans import FanMaker
 from vmach.stock.stats import CutStats
-from vmach.stock.strategies import polygonal, revolved
 from vmach.stock.view import View
 from vmach.tooling.solid import RIM_SAG, ToolSolid, fin_points, place
 
@@ -49,6 +48,9 @@ class Maker:
         self.fans = FanMaker(self)
         #: polygon count of revolved (turning) cutters: the blank's own (:class:`vmach.stock.Stock`)
         self.turn_segments = 256
+        #: job type -> its strategy's ``make(job, maker) -> Cutter | None``, for the jobs a
+        #: strategy makes itself (the planner's table fills it: :mod:`vmach.stock.plan`)
+        self.own: dict[type, object] = {}
 
     # the tool, kept --------------------------------------------------------------------------
     def tool_pieces(self, ts: ToolSolid) -> list[engine.Solid]:
@@ -86,19 +88,19 @@ class Maker:
 
     # ----------------------------------------------------------------------------------------
     def make(self, ts: ToolSolid, jobs: list[Job]) -> list[Cutter]:
-        """The cutters of one stretch of a path, piece by piece in the order the pieces first
-        appear: its columns, its fans (trimmed in one go), its placed poses, its runs; a
-        turning path's revolved cutters (``ts`` None)."""
+        """The cutters of one stretch of a path: first the jobs a strategy makes itself
+        (``own``: a turning path's revolved cutters, ``ts`` None), then piece by piece in the
+        order the pieces first appear its columns, its fans (trimmed in one go), its placed
+        poses, its runs."""
         out: list[Cutter] = []
         for j in jobs:
-            if isinstance(j, Revolved | Polygonal):
-                c = (revolved.make(j, self.view.bounds, self.turn_segments) if isinstance(j, Revolved)
-                     else polygonal.make(j, self.view.bounds))
+            if type(j) in self.own:
+                c = self.own[type(j)](j, self)
                 if c is None:
                     self.stats.culled += 1
                 else:
                     out.append(c)
-        jobs = [j for j in jobs if not isinstance(j, Revolved | Polygonal)]
+        jobs = [j for j in jobs if type(j) not in self.own]
         pieces = list(dict.fromkeys(0 if isinstance(j, Fan | ColumnJob) else j.piece for j in jobs))
         for k in pieces:
             mine = [j for j in jobs if (0 if isinstance(j, Fan | ColumnJob) else j.piece) == k]

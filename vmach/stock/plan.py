@@ -1,37 +1,49 @@
 """The planner: a tool path in, typed jobs out (:mod:`vmach.stock.jobs`), stretch by stretch.
 
-    for ts, jobs in planner.plan(tool, tips, axes, between, others, rows):
+    for ts, jobs in planner.plan(tool, tips, axes, between, cover, rows):
         cutters = maker.make(ts, jobs)
 
-A path is the tool's poses (tips, unit axes (n, 3), work frame, mm), joined by motion in order.
-Its steps are split into straight and rotary ones (:func:`vmach.stock.sweep.plan`); the cutter
-strategies (:mod:`vmach.stock.strategies`) then claim them in their priority order, and the
-poses left are placed. Every pose is turned about its axis so that the tool's polygon is exact
-toward the sides of its travel (:func:`vmach.tooling.solid.spun`). Jobs come in path order, in
-stretches of CHUNK, so that cutters are queued — and may be subtracted — as they come.
+A path (:class:`vmach.stock.path.Path`: the tool's poses, joined by motion in order) is offered
+to the cutter strategies in the order of :data:`TABLE`; each claims what it cuts of what the
+ones before left (:class:`~vmach.stock.path.Free`) and says how (:class:`~vmach.stock.path.Claim`);
+the last line places every pose left. Every pose is turned about its axis so that the tool's
+polygon is exact toward the sides of its travel (:func:`vmach.tooling.solid.spun`). What the
+strategies made comes out in path order, in stretches of CHUNK, so that cutters are queued —
+and may be subtracted — as they come. Cross-path knowledge is the optional coverage index
+(``cover``, :class:`vmach.stock.sweeps.Coverage`): a caller streaming the program passes none.
 """
 
 from __future__ import annotations
 
+import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from vmach.errors import InputError
 from vmach.stock import make
-from vmach.stock.jobs import ColumnJob, Fan, Job, Placed, Runs, span
+from vmach.stock.jobs import Job, Placed, Runs
 from vmach.stock.make_fans import run_frames
+from vmach.stock.path import Claim, Free, Path
 from vmach.stock.stats import CutStats
-from vmach.stock.strategies import cusps as cusp_poses
-from vmach.stock.strategies import fans as fan_runs
-from vmach.stock.strategies import fins, polygonal, revolved, runs
-from vmach.stock.sweep import plan, run_extremes, stacked_runs
+from vmach.stock.strategies import cusps, fans, fins, placed, polygonal, revolved, runs
 from vmach.stock.view import View
 from vmach.tol import tol
 from vmach.tooling.model import Tool
-from vmach.tooling.solid import ToolSolid, across, frames, lateral, spun, tool_solid
+from vmach.tooling.solid import ToolSolid, tool_solid
 
+#: the cutter strategies, in priority order (docs/stock.md says why each exists and its bound):
+#: a new one is a module in vmach/stock/strategies/ and a line here
+TABLE = (
+    revolved,   # a turning path, whole
+    polygonal,  # a polygonal-turning path (a flywheel coupled to the work), whole
+    fans,       # rotary runs of a flat-faced prism (and the slides between them): fans, columns
+    runs,       # straight runs: exact hulls
+    fins,       # placed poses between two placed rotary steps: their fins
+    cusps,      # poses added inside placed rotary steps against cusps
+    placed,     # every pose left: the tool placed there (always last)
+)
 
 @dataclass(frozen=True)
 class Settings:
@@ -39,7 +51,7 @@ class Settings:
     rims exact toward each pose's sides (``Accuracy.rim_arcs``); trim : trim cutters and leave
     out poses a run holds; fans / columns : the fan strategy (with trim); cusp : the largest
     cusp left between placed poses, mm; fan_overcut : the most a fan may remove beyond the true
-    sweep, mm."""
+    sweep, mm; without : the strategies switched off (:data:`SWITCHES`; from :data:`WITHOUT`)."""
 
     chord: float = tol.tool_chord
     arcs: bool = False
@@ -48,31 +60,29 @@ class Settings:
     columns: bool = True
     cusp: float = tol.sweep_cusp
     fan_overcut: float = tol.fan_overcut
+    without: frozenset = field(default_factory=lambda: without_env())
+
+    def on(self, name: str) -> bool:
+        """Whether the strategy (or the coverage index, ``cover``) ``name`` may run."""
+        return name not in self.without
 
 
-@dataclass
-class _Path:
-    """One path as the strategies leave it: poses ``tips``, ``axes``, ``unit`` (n, 3), frames
-    ``fr`` (n + e, 3, 4) (e poses added by :mod:`.strategies.cusps`), lateral ``sides`` (n, 3),
-    placed poses ``poses`` (m,) int and where they lie along the path ``key`` (m,) float, their
-    fins ``fins`` / ``tall`` (n + e,) mm, the translation runs ``runs`` (r, 2) in ``groups``, fans
-    and columns, and the source row of each pose ``rows`` (n + e,) int or None."""
+#: the environment variable that switches strategies off for a measurement (comma-separated
+#: names: fans, columns, fins, cusps, axial, cover) — ``benchmarks/stock_strategies.py``
+WITHOUT = "VMACH_STOCK_WITHOUT"
+#: the names it takes (a strategy's NAME, or a part of one: the columns of fans, the axial
+#: runs, the coverage index); runs, placed and revolved are the only way their paths are cut
+SWITCHES = ("fans", "columns", "fins", "cusps", "axial", "cover")
 
-    ts: ToolSolid
-    tips: np.ndarray
-    axes: np.ndarray
-    unit: np.ndarray
-    fr: np.ndarray
-    sides: np.ndarray
-    poses: np.ndarray
-    key: np.ndarray
-    fins: np.ndarray
-    tall: np.ndarray
-    runs: np.ndarray
-    groups: list
-    fans: object
-    cols: list
-    rows: np.ndarray | None
+
+def without_env() -> frozenset:
+    """The strategies switched off by :data:`WITHOUT` (empty: none); a name it does not know is
+    an InputError (a measurement must not silently measure something else)."""
+    names = frozenset(w.strip() for w in os.environ.get(WITHOUT, "").split(",") if w.strip())
+    if names - set(SWITCHES):
+        raise InputError(f"{WITHOUT}: unknown {', '.join(sorted(names - set(SWITCHES)))} "
+                         f"(known: {', '.join(SWITCHES)})", kind="usage")
+    return names
 
 
 class Planner:
@@ -86,146 +96,127 @@ class Planner:
         self.view = view
         self.maker = maker
         self.stats = stats
+        maker.own.update({m.JOB: m.make for m in TABLE if getattr(m, "JOB", None) is not None})
 
     def tool_solid(self, tool: Tool | ToolSolid) -> ToolSolid:
         return tool if isinstance(tool, ToolSolid) else tool_solid(tool, self.s.chord, arcs=self.s.arcs)
 
-    def plan(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None, others=None,
+    def plan(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None, cover=None,
              rows: np.ndarray | None = None):
         """Yield (tool solid, [Job]) for consecutive stretches of a path, in path order (see
         :meth:`vmach.stock.Stock.cut` for the arguments)."""
         t0 = time.perf_counter()
         ts = self.tool_solid(tool)
         tips, axes = _checked(tips, axes, rows)
-        rows = None if rows is None else np.asarray(rows, dtype=int)
+        path = Path(tips, axes, _rows(rows), self.s, tool=tool, ts=ts, pr=self.maker.prism(ts),
+                    between=between)
         self.stats.paths += 1
         self.stats.poses += len(tips)
         if len(tips) == 0:
             return
-        p, t0 = self._claim(tool, ts, tips, axes, between, others, rows, t0)
-        for jobs in self._stretches(p):
+        t0 += self._retake(path)
+        place = np.zeros(path.n, bool)
+        place[path.sweep.poses] = True
+        claims = self._claims(path, Free(np.ones(path.n - 1, bool), place),
+                              cover if self.s.on("cover") else None)
+        for jobs in self._stretches(path, claims):
             self.stats.sweep_seconds += time.perf_counter() - t0
             yield ts, jobs
             t0 = time.perf_counter()
         self.stats.sweep_seconds += time.perf_counter() - t0
 
     def turn(self, section: np.ndarray, tips: np.ndarray, rows: np.ndarray | None = None) -> list[Job]:
-        """The revolved jobs of a turning path (:mod:`vmach.stock.strategies.revolved`): the
-        tool's cross-section ``section`` (k, 2) ``(x, z)`` mm from its tip, at ``tips`` (n, 3)
-        work frame mm (their distance from the spindle axis and Z)."""
-        tips, _ = _checked(tips, np.broadcast_to([1.0, 0.0, 0.0], np.shape(tips)), rows)
+        """The jobs of a turning path (:mod:`vmach.stock.strategies.revolved`): the tool's
+        cross-section ``section`` (k, 2) ``(x, z)`` mm from its tip, at ``tips`` (n, 3) work
+        frame mm (their distance from the spindle axis and Z)."""
+        tips, axes = _checked(tips, np.broadcast_to([1.0, 0.0, 0.0], np.shape(tips)), rows)
         self.stats.paths += 1
         self.stats.poses += len(tips)
-        rows = None if rows is None else np.asarray(rows, dtype=int)
-        return revolved.claim(section, revolved.half_plane(tips), rows)
+        if len(tips) == 0:
+            return []
+        path = Path(tips, axes, _rows(rows), self.s, section=section)
+        claims = self._claims(path, Free(np.ones(path.n - 1, bool), np.ones(path.n, bool)), None)
+        return [job for c in claims for _, job in c.jobs]
 
     def polygon(self, tool, coupling, points: np.ndarray, rows: np.ndarray | None = None) -> list[Job]:
         """The jobs of a polygonal-turning path (:mod:`vmach.stock.strategies.polygonal`): the
-        flywheel ``tool`` coupled by ``coupling``, its point P at ``points`` (n, 3) machine frame mm."""
-        pts, _ = _checked(points, np.broadcast_to([1.0, 0.0, 0.0], np.shape(points)), rows)
+        flywheel ``tool`` coupled by ``coupling``, its point P at ``points`` (n, 3) machine
+        frame mm."""
+        pts, axes = _checked(points, np.broadcast_to([1.0, 0.0, 0.0], np.shape(points)), rows)
         self.stats.paths += 1
         self.stats.poses += len(pts)
-        lo, hi = self.view.bounds
-        r_max = float(np.hypot(np.abs([lo[0], hi[0]]).max(), np.abs([lo[1], hi[1]]).max())) + 1.0
-        rows = None if rows is None else np.asarray(rows, dtype=int)
-        z_range = (float(lo[2]) - 1.0, float(hi[2]) + 1.0)
-        return polygonal.claim(tool, coupling, pts, rows, r_max, z_range=z_range)
+        if len(pts) == 0:
+            return []
+        path = Path(pts, axes, _rows(rows), self.s, coupled=(tool, coupling))
+        claims = self._claims(path, Free(np.ones(path.n - 1, bool), np.ones(path.n, bool)), None)
+        return [job for c in claims for _, job in c.jobs]
 
-    def _claim(self, tool, ts: ToolSolid, tips, axes, between, others, rows, t0: float):
-        """The strategies, in their order, over one path: (_Path, t0 less the retake's time)."""
-        s, view, pr = self.s, self.view, self.maker.prism(ts)
-        sp = plan(tips, axes)
-        sides = lateral(tips, axes)
-        fr = spun(frames(tips, axes), sides, ts.segments)
-        rotary = sp.angles > tol.hull_angle
-        if s.trim:
-            t1 = time.perf_counter()
-            # trim slabs of the stock now (and the stock as it is for fans: their tool's back)
-            force = s.fans and bool(rotary.any()) and pr is not None
-            view.boxes(np.zeros(0), np.zeros(0), fresh=True, force=force)
-            t0 += time.perf_counter() - t1                       # (its booleans are counted there)
-            poses = runs.outside(sp.poses, sp.runs)
-            self.stats.covered += (len(sp.poses) - len(poses)) * len(ts.pieces)
-        else:
-            poses = sp.poses
-        unit = axes / np.linalg.norm(axes, axis=1, keepdims=True)
-        fc = fan_runs.claim(ts, pr if s.fans else None, tips, unit, rotary, view, columns=s.columns,
-                            overcut=s.fan_overcut, others=others)
-        run = sp.runs
-        if len(fc.runs):
-            # a fan's end poses turned for its own steps, not for the move beyond it
-            a, b = fc.runs[:, 0], fc.runs[:, 1]
-            ends = np.r_[a, b]
-            step = np.r_[tips[a + 1] - tips[a], tips[b] - tips[b - 1]]
-            sides[ends] = across(unit[ends], step)
-            fr[ends] = spun(frames(tips[ends], axes[ends]), sides[ends], ts.segments)
-            poses = runs.outside(poses, fc.runs)
-            run = run[~runs.within(run, fc.runs)]
-        if s.trim and len(run):
-            run, poses, k = runs.claim_axial(ts, tips, unit, run, poses, fc.runs, view)
-            self.stats.axial_runs += k
-        groups = (stacked_runs(tips, unit, run, pr.length) if pr is not None and s.trim
-                  else [[r] for r in range(len(run))])
-        self.stats.stacked_runs += len(run) - len(groups)
-        p = _Path(ts, tips, axes, unit, fr, sides, poses, poses.astype(float), np.full(len(fr), np.inf),
-                  np.full(len(fr), np.inf), run, groups, fc.fans, fc.columns, rows)
-        if s.trim and isinstance(tool, Tool):
-            p.fins, k = fins.claim(tool, ts, pr, fr, rotary, fc.runs, poses, view)
-            self.stats.inner_fins += k
-        if between is not None and s.trim and isinstance(tool, Tool):
-            self._add_cusp_poses(p, tool, pr, rotary, fc.runs, between, others)
-        return p, t0
+    def _retake(self, path: Path) -> float:
+        """Retake the view's trim slabs for a new path (and the stock as it is, for fans: their
+        tool's back); the seconds it took (its booleans are counted there)."""
+        if not self.s.trim:
+            return 0.0
+        t1 = time.perf_counter()
+        force = self.s.fans and self.s.on("fans") and path.pr is not None and bool(path.rotary.any())
+        self.view.boxes(np.zeros(0), np.zeros(0), fresh=True, force=force)
+        return time.perf_counter() - t1
 
-    def _add_cusp_poses(self, p: _Path, tool: Tool, pr, rotary, fan_steps, between, others) -> None:
-        add = cusp_poses.claim(tool, p.ts, pr, p.tips, p.fr, rotary, fan_steps, between, self.view,
-                               cusp=self.s.cusp, chord=self.s.chord, others=others)
-        self.stats.foot_steps += add.feet
-        if not len(add.frames):
-            return
-        self.stats.cusp_poses += len(add.frames)
-        p.poses = np.r_[p.poses, len(p.fr) + np.arange(len(add.frames))]
-        p.key = np.r_[p.key, add.at]
-        if p.rows is not None:     # an added pose lies on the step it parts: that step's row
-            p.rows = np.r_[p.rows, p.rows[np.floor(add.at).astype(int) + 1]]
-        p.fr = np.concatenate([p.fr, add.frames])
-        p.fins = np.r_[p.fins, add.half]
-        p.tall = np.r_[p.tall, add.height]
-        self.stats.cusp_fins += int(np.isfinite(make.fin_bucket(add.half, p.ts.radius)).sum())
+    def _claims(self, path: Path, free: Free, cover) -> list[Claim]:
+        """Each strategy of the table in turn (unless switched off) over what the ones before
+        left of the path, ``free`` updated as they claim: their claims."""
+        out = []
+        for strategy in TABLE:
+            if not free.any():
+                break
+            if not self.s.on(strategy.NAME):
+                continue
+            c = strategy.claim(path, free, self.view, cover)
+            if c.steps is not None:
+                free.steps &= ~c.steps
+            if c.held is not None:
+                free.place &= ~c.held
+            free.place[c.place] = True
+            for name, amount in c.counts.items():
+                setattr(self.stats, name, getattr(self.stats, name) + amount)
+            out.append(c)
+        return out
 
-    def _stretches(self, p: _Path):
-        """[Job] per stretch of CHUNK items (placed poses, run groups, fans, columns) in the
-        order they start along the path."""
-        fans, cols, groups, run = p.fans, p.cols, p.groups, p.runs
-        start = np.concatenate([p.key, [run[g, 0].min() for g in groups], fans.runs[:, 0],
-                                [c.cells[0, 0] for c in cols]])
-        kind = np.r_[np.zeros(len(p.poses), int), np.ones(len(groups), int), np.full(len(fans.runs), 2),
-                     np.full(len(cols), 3)]
-        which = np.r_[np.arange(len(p.poses)), np.arange(len(groups)), np.arange(len(fans.runs)),
-                      np.arange(len(cols))].astype(int)
+    def _stretches(self, path: Path, claims: list[Claim]):
+        """[Job] per stretch of CHUNK items (placed poses, run groups, single jobs) in the
+        order they start along the path; in a stretch, single jobs in the order claimed, then
+        per tool piece its placed poses and its translation hulls."""
+        poses = [c.poses for c in claims if c.poses is not None]
+        at = np.concatenate([p.at for p in poses]) if poses else np.zeros(0)
+        frames = np.concatenate([p.frames for p in poses]) if poses else np.zeros((0, 3, 4))
+        fins = np.concatenate([p.fins for p in poses]) if poses else np.zeros(0)
+        tall = np.concatenate([p.tall for p in poses]) if poses else np.zeros(0)
+        rows = np.concatenate([p.rows for p in poses]).astype(int) if poses else np.zeros((0, 2), int)
+        groups = [c.groups for c in claims if c.groups is not None]
+        ends = [e for g in groups for e in g.ends]
+        g_rows = np.concatenate([g.rows for g in groups]) if groups else np.zeros((0, 2), int)
+        singles = [j for c in claims for j in c.jobs]
+        start = np.concatenate([at, *[g.at for g in groups], [a for a, _ in singles]])
+        kind = np.r_[np.zeros(len(at), int), np.ones(len(ends), int), np.full(len(singles), 2)]
+        which = np.r_[np.arange(len(at)), np.arange(len(ends)), np.arange(len(singles))].astype(int)
         order = np.argsort(start, kind="stable")
-        path = (p.tips, p.unit)                       # what else the path cuts
         for c0 in range(0, len(order), self.CHUNK):
             part = order[c0 : c0 + self.CHUNK]
-            mine = [which[part][kind[part] == k] for k in range(4)]
-            chunk_groups = [groups[g] for g in mine[1]]
-            ends = [run_extremes(p.tips, run[r]) for g in chunk_groups for r in g]
-            flat = run_frames(p.tips, p.axes, ends, p.ts.segments, p.sides)     # shared by every piece
-            sizes = np.cumsum([0] + [len(g) for g in chunk_groups])
-            run_fr = [flat[sizes[i] : sizes[i + 1]] for i in range(len(chunk_groups))]
-            group_rows = np.array([span(p.rows, int(run[g, 0].min()), int(run[g, 1].max()))
-                                   for g in chunk_groups], dtype=int).reshape(-1, 2)
-            placed = p.poses[mine[0]]
-            pose_rows = (np.full((len(placed), 2), -1) if p.rows is None
-                         else np.repeat(p.rows[placed][:, None], 2, axis=1))
-            jobs: list[Job] = [ColumnJob(cols[c], p.tips, p.unit, p.fr, path,
-                                         span(p.rows, int(cols[c].cells.min()), int(cols[c].cells.max())))
-                               for c in mine[3]]
-            jobs += [Fan(p.tips[a : b + 1], p.unit[a : b + 1], fans.omega[f], p.fr[a : b + 1], path,
-                         span(p.rows, a, b)) for f in mine[2] for a, b in [fans.runs[f]]]
-            for k in range(len(p.ts.pieces)):
-                jobs.append(Placed(k, p.fr[placed], p.fins[placed], p.tall[placed], pose_rows))
-                jobs.append(Runs(k, run_fr, group_rows))
+            mine = [which[part][kind[part] == k] for k in range(3)]
+            chunk = [ends[g] for g in mine[1]]
+            flat = run_frames(path.tips, path.axes, [e for g in chunk for e in g], path.ts.segments,
+                              path.sides)
+            sizes = np.cumsum([0] + [len(g) for g in chunk])
+            run_fr = [flat[sizes[i] : sizes[i + 1]] for i in range(len(chunk))]
+            p = mine[0]
+            jobs: list[Job] = [singles[j][1] for j in np.sort(mine[2])]
+            for k in range(len(path.ts.pieces)):
+                jobs.append(Placed(k, frames[p], fins[p], tall[p], rows[p]))
+                jobs.append(Runs(k, run_fr, g_rows[mine[1]].reshape(-1, 2)))
             yield jobs
+
+
+def _rows(rows) -> np.ndarray | None:
+    return None if rows is None else np.asarray(rows, dtype=int)
 
 
 def _checked(tips, axes, rows) -> tuple[np.ndarray, np.ndarray]:

@@ -150,9 +150,9 @@ def simulate(table, model, library, stock: Stock, *, angle: float = tol.sweep_an
             continue
         if checks:
             CheckedPath(stock, found, table, a, b, k, pose, res, clearance, partial(_between, q, model.fk),
-                        sweeps.others(index[i]), rows).run()
+                        sweeps.coverage(index[i]), rows).run()
         else:
-            stock.cut(found, pose.tip, pose.axis, _between(q, model.fk), sweeps.others(index[i]), rows)
+            stock.cut(found, pose.tip, pose.axis, _between(q, model.fk), sweeps.coverage(index[i]), rows)
         res.moves += b - a
         res.samples += len(q)
         if rotary.any() and len(q) > 1:

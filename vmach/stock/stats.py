@@ -23,8 +23,8 @@ class CutStats:
     column_overcut_mm : the deepest a column's face chain lies below one of its turns' own, or
     its hull bridges a floor beyond what the path cuts anyway (mm; also in fan_overcut_mm);
     axial_runs : translation runs along the tool's axis cut as the tool at their inner pose
-    (:func:`vmach.stock.strategies.runs.claim_axial`); stacked_runs : runs cut in one hull
-    with a run they stack on (:func:`vmach.stock.sweep.stacked_runs`);
+    (:func:`vmach.stock.strategies.runs.claim_axial`);
+
     sweep_seconds : making cutters; boolean_seconds : batch booleans (in the worker process
     too, where they overlap the sweep); wait_seconds : waiting for the worker.
     """
@@ -45,7 +45,6 @@ class CutStats:
     columns: int = 0
     column_cells: int = 0
     axial_runs: int = 0
-    stacked_runs: int = 0
     column_overcut_mm: float = 0.0
     batches: int = 0
     sweep_seconds: float = 0.0

@@ -110,7 +110,7 @@ class Stock:
 
     # ----------------------------------------------------------------------------------------
     def cut(self, tool: Tool | ToolSolid, tips: np.ndarray, axes: np.ndarray, between=None,
-            others=None, rows: np.ndarray | None = None) -> int:
+            cover=None, rows: np.ndarray | None = None) -> int:
         """Queue the swept volume of one path; returns the number of cutters made.
 
         tool : Tool (polygonised with this stock's chord) or a ready ToolSolid.
@@ -122,13 +122,13 @@ class Stock:
             into ``parts`` equal parts of the motion — the ``parts - 1`` poses strictly inside,
             step by step, ``at`` = i + fraction. With it, rotary steps get more poses where the
             tool would leave cusps over the stock's ``cusp`` (:mod:`vmach.stock.strategies.cusps`).
-        others : the optional coverage index of the program's other paths
-            (:meth:`vmach.stock.sweeps.Sweeps.others`): which places their true tools sweep.
+        cover : the optional coverage index of the program's other paths
+            (:meth:`vmach.stock.sweeps.Sweeps.coverage`): which places their true tools sweep.
         rows : (n,) int — the program row of each pose (a step belongs to the row it ends
             in); the cutters made name them (:attr:`provenance`).
         """
         n = 0
-        for cutters in self._made(tool, tips, axes, between, others, rows):
+        for cutters in self._made(tool, tips, axes, between, cover, rows):
             self.queue(cutters)
             n += len(cutters)
         return n
@@ -173,9 +173,9 @@ class Stock:
         """mm: the chord of a turning insert's nose arcs (the finer of the tool and blank chords)."""
         return min(self.chord, tol.blank_chord)
 
-    def _made(self, tool, tips, axes, between=None, others=None, rows=None):
+    def _made(self, tool, tips, axes, between=None, cover=None, rows=None):
         """Yield the cutters of each stretch of a path, as made."""
-        for ts, jobs in self.planner.plan(tool, tips, axes, between, others, rows):
+        for ts, jobs in self.planner.plan(tool, tips, axes, between, cover, rows):
             t0 = time.perf_counter()
             cutters = self.maker.make(ts, jobs)
             self.stats.sweep_seconds += time.perf_counter() - t0

@@ -146,40 +146,6 @@ def axial_runs(tips: np.ndarray, axes: np.ndarray, runs: np.ndarray) -> tuple[np
     return axial, inner
 
 
-def stacked_runs(tips: np.ndarray, axes: np.ndarray, runs: np.ndarray, length: float) -> list[list[int]]:
-    """Groups (lists of indices into ``runs`` (r, 2)) of translation runs whose hulls' union is
-    the hull of the group: runs of one tool axis and one travel (the same vector, to 1e-6 mm),
-    whose starts lie apart only along the axis, each within ``length`` of the next (sorted
-    along the axis) — a roughing cut repeated a millimetre deeper, say. For a prism of that
-    length on that axis (a flat or face mill) every line along the axis crosses each hull in
-    ``length`` or more, so translates along the axis at most that far apart leave no gap the
-    hull would fill. Every run is in exactly one group, alone if nothing stacks with it."""
-    if len(runs) == 0:
-        return []
-    ends = np.array([run_extremes(tips, r) for r in runs], dtype=int)
-    a = np.asarray(axes, dtype=float)[ends[:, 0]]
-    a = a / np.linalg.norm(a, axis=1, keepdims=True)
-    start = tips[ends[:, 0]]
-    d = tips[ends[:, 1]] - start
-    s = np.einsum("ij,ij->i", start, a)
-    side = start - s[:, None] * a                       # the start off the axis's line
-    key = np.column_stack([np.round(a, 9), np.round(d, 6), np.round(side, 6)])
-    _, label = np.unique(key, axis=0, return_inverse=True)
-    groups: list[list[int]] = []
-    for g in np.unique(label):
-        members = np.nonzero(label == g)[0]
-        members = members[np.argsort(s[members], kind="stable")]
-        current = [int(members[0])]
-        for m in members[1:]:
-            if s[m] - s[current[-1]] <= length:
-                current.append(int(m))
-            else:
-                groups.append(current)
-                current = [int(m)]
-        groups.append(current)
-    return sorted(groups, key=lambda grp: int(runs[grp, 0].min()))
-
-
 # --------------------------------------------------------------------------------------------
 # Error bounds (docs/stock.md, "Error budget")
 # --------------------------------------------------------------------------------------------

@@ -6,7 +6,7 @@ cutter (:mod:`vmach.stock.fan`) takes, near a flat face's rim, a band of the fac
 its true tool leaves (the flank's foot where the tool's centre runs off the contact); where
 another path's true tool sweeps that band — a finishing cutter whose body passes through the
 foot a roughing or facing pass leaves on its allowance — the fan may take it first
-(:func:`vmach.stock.fan.plan_fans`, ``others``).
+(:func:`vmach.stock.fan.plan_fans`, ``cover``).
 
 :class:`Sweeps` holds every path's sampled machine axes and poses, and answers whether points
 lie inside another path's true tool at a moment of its motion: the moment its tool's plane
@@ -18,10 +18,14 @@ moment misses, never wrongly.
 
 The other way round, material a path's cutters *leave* (the feet of a flat face's rim,
 :mod:`vmach.stock.feet`) is gone only if another path's cutters take it — not merely its true
-tool, whose sampled poses may leave the same foot at the same place. :meth:`Others.recut`
+tool, whose sampled poses may leave the same foot at the same place. :meth:`Coverage.recut`
 therefore asks the sampled poses around each crossing (what every cutter holds whole), and
 this path's own poses too, on its other passes (beyond ``gap`` mm of tip travel). All
 lengths mm.
+
+What a strategy (:mod:`vmach.stock.strategies`) may ask is one explicit, optional coverage
+index, :class:`Coverage` (``Sweeps.coverage(path)``): a caller that streams the program path by
+path passes none, and every strategy still holds its bound — it only claims less.
 """
 
 from __future__ import annotations
@@ -91,9 +95,9 @@ class Sweeps:
             out[left[inside.any(axis=1)]] = True
         return out
 
-    def others(self, path: int) -> Others:
-        """What every path but ``path`` sweeps, as that path's cuts ask (:class:`Others`)."""
-        return Others(self, path)
+    def coverage(self, path: int) -> Coverage:
+        """What every path but ``path`` sweeps, as that path's cuts ask (:class:`Coverage`)."""
+        return Coverage(self, path)
 
     def holds(self, points: np.ndarray, omega: np.ndarray, skip: int | None = None,
               margin: np.ndarray | float = 0.0, own: tuple | None = None, spread: int = 0) -> np.ndarray:
@@ -139,28 +143,33 @@ class Sweeps:
         return out
 
 
-class Others:
-    """What the true tools sweep, for the cuts of one path (``path``) of :class:`Sweeps`,
-    whose poses the stock is given from the path's pose ``offset`` on.
+class Coverage:
+    """The coverage index: what the true tools of a program's other paths sweep, for the cuts
+    of one path (``path``) of :class:`Sweeps`, whose poses the stock is given from the path's
+    pose ``offset`` on. Three questions:
 
-    - called as ``(groups (g, k, 3), omega (3,)) -> (g,) bool``: groups every point of which
-      another path's tool sweeps (:meth:`Sweeps.holds_all`; fans' rim bands);
-    - :meth:`recut`: points another path, or this one beyond ``gap``, sweeps with a margin.
+    - :meth:`swept`: groups of points every point of which another path's tool sweeps (fans'
+      rim bands);
+    - :meth:`at_poses`: points another path's sampled poses hold (cusp poses' fin heights);
+    - :meth:`recut`: points another path, or this one beyond ``gap``, sweeps with a margin
+      (the feet of a flat face's rim).
     """
 
     def __init__(self, sweeps: Sweeps, path: int, offset: int = 0):
         self.sweeps, self.path, self.offset = sweeps, path, int(offset)
 
-    def __call__(self, groups: np.ndarray, omega: np.ndarray) -> np.ndarray:
+    def swept(self, groups: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        """(g,) bool: groups (g, k, 3) every point of which another path's true tool sweeps
+        about ``omega`` (3,) (:meth:`Sweeps.holds_all`)."""
         return self.sweeps.holds_all(groups, omega, skip=self.path)
 
     def at_poses(self, points: np.ndarray, margin: np.ndarray) -> np.ndarray:
         """Points another path's sampled poses hold (:meth:`Sweeps.at_poses`)."""
         return self.sweeps.at_poses(points, self.path, margin)
 
-    def shifted(self, offset: int) -> Others:
+    def shifted(self, offset: int) -> Coverage:
         """The same for a stretch of the path given from its pose ``offset`` on."""
-        return Others(self.sweeps, self.path, self.offset + int(offset))
+        return Coverage(self.sweeps, self.path, self.offset + int(offset))
 
     def recut(self, points: np.ndarray, steps: np.ndarray, omega: np.ndarray, margin: np.ndarray,
               gap: float, near: bool = False) -> np.ndarray:
@@ -354,7 +363,7 @@ def _inside(m: Motion, points: np.ndarray, om: np.ndarray, pi: np.ndarray, i: np
     return in_tool(p - np.asarray(pose.tip, dtype=float), axis, m.zs, m.rs, margin, np.maximum(margin, 1e-6))
 
 
-#: sampled poses on either side of a crossing at which :meth:`Others.recut` looks for a point
+#: sampled poses on either side of a crossing at which :meth:`Coverage.recut` looks for a point
 RECUT_SPREAD = 4
 
 

@@ -1,7 +1,7 @@
 """Cusp poses: poses added inside the placed rotary steps where the tool would leave cusps
 over the stock's ``cusp`` between a step's two poses — a curved side's
-(:mod:`vmach.stock.cusps`), or, for a flat-faced prism told what other paths cut again, its
-rim's feet (:mod:`vmach.stock.feet`).
+(:mod:`vmach.stock.cusps`), or, for a flat-faced prism told what other paths cut again (the
+coverage index), its rim's feet (:mod:`vmach.stock.feet`).
 
 Error bound: the added poses lie on the true motion (``between``), so they remove nothing the
 tool does not; they bring the cusps within ``cusp`` (``tol.sweep_cusp``). An added pose is cut
@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vmach.stock import cusps, feet
-from vmach.stock.strategies.fins import placed_steps
+from vmach.stock import cusps, feet, make
+from vmach.stock.path import NOTHING, Bound, Claim, Free, Path, Poses
 from vmach.stock.view import View
 from vmach.tooling.model import Tool
 from vmach.tooling.solid import ToolSolid, across, frames, spun
@@ -36,13 +36,36 @@ class Added:
 
 NONE = Added(np.zeros((0, 3, 4)), np.zeros(0), np.zeros(0), np.zeros(0))
 
+NAME = "cusps"
+BOUND = Bound(under="side_cusps")
 
-def claim(tool: Tool, ts: ToolSolid, pr, tips: np.ndarray, fr: np.ndarray, rotary: np.ndarray,
-          fan_runs: np.ndarray, between, view: View, *, cusp: float, chord: float, others=None) -> Added:
-    """The poses to add inside the rotary steps (n-1,) bool that no fan holds (``fr`` (n, 3, 4)
-    the path's frames, as placed poses are turned; ``pr`` the tool as a prism or None;
-    ``between``: the path's poses inside a step, :meth:`vmach.stock.Stock.cut`)."""
-    steps = placed_steps(rotary, fan_runs)
+
+def claim(path: Path, free: Free, view: View, cover) -> Claim:
+    """Poses added inside the free rotary steps of a path given the poses inside its steps
+    (``between``) and its true tool, with the setting ``trim``; each cut as its fin, up to the
+    height its cusps reach. It takes no step: the poses at the steps' ends are placed still."""
+    s, tool = path.settings, path.true_tool
+    if path.between is None or not s.trim or tool is None:
+        return NOTHING
+    add = added(tool, path.ts, path.pr, path.tips, path.frames, path.rotary & free.steps, path.between, view,
+                cusp=s.cusp, chord=s.chord, cover=cover)
+    counts = {"foot_steps": add.feet}
+    if not len(add.frames):
+        return Claim(counts=counts)
+    counts["cusp_poses"] = len(add.frames)
+    counts["cusp_fins"] = int(np.isfinite(make.fin_bucket(add.half, path.ts.radius)).sum())
+    # an added pose lies on the step it parts: that step's row
+    rows = (np.full((len(add.at), 2), -1) if path.rows is None
+            else np.repeat(path.rows[np.floor(add.at).astype(int) + 1][:, None], 2, axis=1))
+    return Claim(poses=Poses(add.at, add.frames, add.half, add.height, rows), counts=counts)
+
+
+def added(tool: Tool, ts: ToolSolid, pr, tips: np.ndarray, fr: np.ndarray, steps: np.ndarray, between,
+          view: View, *, cusp: float, chord: float, cover=None) -> Added:
+    """The poses to add inside the placed rotary ``steps`` (n-1,) bool (``fr`` (n, 3, 4) the
+    path's frames, as placed poses are turned; ``pr`` the tool as a prism or None;
+    ``between``: the path's poses inside a step, :meth:`vmach.stock.Stock.cut`; ``cover``:
+    the coverage index or None)."""
     # steps whose tool may reach the stock's bounds at all
     lo, hi = view.bounds
     reach = ts.length + ts.radius
@@ -54,12 +77,12 @@ def claim(tool: Tool, ts: ToolSolid, pr, tips: np.ndarray, fr: np.ndarray, rotar
     c, over = cusps.step_cusps(sd, fr[idx], fr[idx + 1], view.holds, cusp, reach=True)
     height = np.full(len(idx), np.inf)
     if pr is None:
-        keep = _not_recut(over, others, chord)
+        keep = _not_recut(over, cover, chord)
         height = cusps.fin_height(over, len(idx), ts.length, keep)
     parts = cusps.substeps(c, cusp)
     n_feet = 0
-    if others is not None and hasattr(others, "recut") and pr is not None:
-        more = feet.parts(tool, ts, fr, idx, cusp, chord, view.holds, others, between)
+    if cover is not None and pr is not None:
+        more = feet.parts(tool, ts, fr, idx, cusp, chord, view.holds, cover, between)
         n_feet = int((more > 1).sum())
         parts = np.maximum(parts, more)
     need = parts > 1
@@ -76,10 +99,10 @@ def claim(tool: Tool, ts: ToolSolid, pr, tips: np.ndarray, fr: np.ndarray, rotar
     return Added(more, np.asarray(at, dtype=float), half, height, n_feet)
 
 
-def _not_recut(over: cusps.Over, others, chord: float) -> np.ndarray | None:
+def _not_recut(over: cusps.Over, cover, chord: float) -> np.ndarray | None:
     """(k,) bool: the samples over the cusp tolerance (``over``) that no other path cuts again
-    — none of its sampled poses near them (:meth:`vmach.stock.sweeps.Sweeps.at_poses`); None
-    (all) without ``others``. The added poses' fins need reach only those."""
-    if others is None or not hasattr(others, "at_poses") or len(over.step) == 0:
+    — none of its sampled poses near them (:meth:`vmach.stock.sweeps.Coverage.at_poses`); None
+    (all) without the coverage index. The added poses' fins need reach only those."""
+    if cover is None or len(over.step) == 0:
         return None
-    return ~others.at_poses(over.point, over.cusp + chord)
+    return ~cover.at_poses(over.point, over.cusp + chord)

@@ -14,31 +14,42 @@ import numpy as np
 
 from vmach.stock import cusps, make
 from vmach.stock.events import cylinder_boxes
+from vmach.stock.path import NOTHING, Bound, Claim, Free, Path, Poses
 from vmach.stock.view import View
 from vmach.tooling.model import Tool
 from vmach.tooling.solid import ToolSolid
 
-
-def placed_steps(rotary: np.ndarray, fan_runs: np.ndarray) -> np.ndarray:
-    """(n-1,) bool: the ``rotary`` steps of a path that no fan or column holds (``fan_runs``
-    (f, 2): [first, last] pose of each): left to placed poses."""
-    steps = np.asarray(rotary, bool).copy()
-    for first, last in fan_runs:
-        steps[first:last] = False
-    return steps
+NAME = "fins"
+BOUND = Bound(under="a sliver: fins_cover's slack, 0.001 mm")
 
 
-def claim(tool: Tool, ts: ToolSolid, pr, fr: np.ndarray, rotary: np.ndarray, fan_runs: np.ndarray,
-          poses: np.ndarray, view: View) -> tuple[np.ndarray, int]:
+def claim(path: Path, free: Free, view: View, cover) -> Claim:
+    """The poses still to place of a flat or face mill (one prism) between two free rotary
+    steps, each cut as its fin where its neighbours' fins hold the rest of it
+    (:func:`fin_widths`); with the setting ``trim`` and the true tool only."""
+    tool, pr = path.true_tool, path.pr
+    if not path.settings.trim or tool is None or pr is None or path.n < 3:
+        return NOTHING
+    half, k = fin_widths(tool, path.ts, path.frames, path.rotary & free.steps, np.nonzero(free.place)[0],
+                         view)
+    idx = np.nonzero(np.isfinite(half))[0]
+    if len(idx) == 0:
+        return NOTHING
+    held = np.zeros(path.n, bool)
+    held[idx] = True
+    inf = np.full(len(idx), np.inf)
+    poses = Poses(idx.astype(float), path.frames[idx], half[idx], inf, path.pose_rows(idx))
+    return Claim(held=held, poses=poses, counts={"inner_fins": k})
+
+
+def fin_widths(tool: Tool, ts: ToolSolid, fr: np.ndarray, steps: np.ndarray, poses: np.ndarray,
+               view: View) -> tuple[np.ndarray, int]:
     """((n,) mm, count): the fin half-widths of the placed poses ``poses`` of a flat or face
-    mill (``pr`` not None) between two rotary steps that no fan or column holds — widths over
-    the two steps, rounded as cut (:func:`vmach.stock.make.fin_bucket`) — whose neighbours'
-    fins hold the rest of them; inf for every other pose (cut whole, or not placed)."""
+    mill between two of the placed rotary ``steps`` (n-1,) bool — widths over the two steps,
+    rounded as cut (:func:`vmach.stock.make.fin_bucket`) — whose neighbours' fins hold the rest
+    of them; inf for every other pose (cut whole, or not placed)."""
     n = len(fr)
     out = np.full(n, np.inf)
-    if n < 3 or pr is None:
-        return out, 0
-    steps = placed_steps(rotary, fan_runs)
     inner = np.zeros(n, bool)
     inner[1:-1] = steps[:-1] & steps[1:]
     placed = np.zeros(n, bool)

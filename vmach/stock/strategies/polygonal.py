@@ -50,6 +50,8 @@ import numpy as np
 
 from vmach.stock import engine
 from vmach.stock.jobs import Cutter, Polygonal, span
+from vmach.stock.path import NOTHING, Bound, Claim, Free, Path
+from vmach.stock.view import View
 
 #: mm: the largest distance an insert point's path leaves the chord between two placements
 SAG = 0.001
@@ -152,8 +154,27 @@ def in_machine(tips: np.ndarray, alpha: np.ndarray) -> np.ndarray:
     return np.column_stack([xy.real, xy.imag, tips[:, 2]])
 
 
-def claim(tool, coupling: Coupling, points: np.ndarray, rows: np.ndarray | None, r_max: float = np.inf,
-          chord: float = SAG, z_range: tuple[float, float] = (-np.inf, np.inf)) -> list[Polygonal]:
+NAME = "polygonal"
+BOUND = Bound(over="tool_polygon", under="tool_polygon")   # SAG (1 µm) per placement: within it
+JOB = Polygonal
+
+
+def claim(path: Path, free: Free, view: View, cover) -> Claim:
+    """A polygonal-turning path (one with ``coupled``) whole: its jobs (:func:`jobs_of`) within
+    the stock's bounds."""
+    if path.coupled is None:
+        return NOTHING
+    tool, coupling = path.coupled
+    lo, hi = view.bounds
+    r_max = float(np.hypot(np.abs([lo[0], hi[0]]).max(), np.abs([lo[1], hi[1]]).max())) + 1.0
+    z_range = (float(lo[2]) - 1.0, float(hi[2]) + 1.0)
+    jobs = jobs_of(tool, coupling, path.tips, path.rows, r_max, z_range=z_range)
+    return Claim(steps=np.ones(max(path.n - 1, 0), bool), held=np.ones(path.n, bool),
+                 jobs=[(float(k), job) for k, job in enumerate(jobs)])
+
+
+def jobs_of(tool, coupling: Coupling, points: np.ndarray, rows: np.ndarray | None, r_max: float = np.inf,
+            chord: float = SAG, z_range: tuple[float, float] = (-np.inf, np.inf)) -> list[Polygonal]:
     """The jobs of one coupled path: P at ``points`` (n, 3) machine frame mm (X its distance from
     the work's axis, Z along it; :func:`in_machine`), ``rows`` (n,) int or None. Consecutive
     steps at one X and Y share a job (their Z spans joined); a step in X or Y takes the sweep
@@ -203,10 +224,10 @@ def claim(tool, coupling: Coupling, points: np.ndarray, rows: np.ndarray | None,
     return jobs
 
 
-def make(job: Polygonal, bounds: np.ndarray) -> Cutter | None:
-    """The cutter of one job within the stock's ``bounds`` (2, 3) mm (one millimetre more: what
-    lies outside removes nothing); None when it misses the stock."""
-    lo, hi = np.asarray(bounds, dtype=float)
+def make(job: Polygonal, maker) -> Cutter | None:
+    """The cutter of one job within the stock's bounds (one millimetre more: what lies outside
+    removes nothing); None when it misses the stock. ``maker``: :class:`vmach.stock.make.Maker`."""
+    lo, hi = np.asarray(maker.view.bounds, dtype=float)
     z0, z1 = max(job.z0, lo[2] - 1.0), min(job.z1, hi[2] + 1.0)
     if not job.hulls or z1 <= z0:
         return None
@@ -217,4 +238,5 @@ def make(job: Polygonal, bounds: np.ndarray) -> Cutter | None:
     return Cutter(solid, engine.bounds(solid), job.rows)
 
 
-__all__ = ["MAX_TURNS", "SAG", "Coupling", "claim", "in_machine", "make", "placements", "section", "sense"]
+__all__ = ["BOUND", "JOB", "MAX_TURNS", "NAME", "SAG", "Coupling", "claim", "in_machine", "jobs_of", "make",
+           "placements", "section", "sense"]

@@ -23,10 +23,28 @@ import numpy as np
 
 from vmach.stock import engine
 from vmach.stock.jobs import Cutter, Revolved, span
+from vmach.stock.path import NOTHING, Bound, Claim, Free, Path
+from vmach.stock.view import View
 from vmach.tooling.solid import straddle_radius
 
 #: steps per revolved cutter (one boolean each; a pass is cut in pieces of this many steps)
 STEPS = 256
+
+NAME = "revolved"
+BOUND = Bound(over="blank_polygon", under="blank_polygon")
+JOB = Revolved
+
+
+def claim(path: Path, free: Free, view: View, cover) -> Claim:
+    """A turning path (one with a ``section``) whole: its revolved jobs, one per STEPS steps."""
+    if path.section is None:
+        return NOTHING
+    at = 0.0
+    jobs = []
+    for job in jobs_of(path.section, half_plane(path.tips), path.rows):
+        jobs.append((at, job))
+        at += STEPS
+    return Claim(steps=np.ones(path.n - 1, bool), held=np.ones(path.n, bool), jobs=jobs)
 
 
 def half_plane(tips: np.ndarray) -> np.ndarray:
@@ -41,7 +59,7 @@ def half_plane(tips: np.ndarray) -> np.ndarray:
     return np.column_stack([np.where(xy @ u < 0, -r, r), tips[:, 2]])
 
 
-def claim(section: np.ndarray, rz: np.ndarray, rows: np.ndarray | None) -> list[Revolved]:
+def jobs_of(section: np.ndarray, rz: np.ndarray, rows: np.ndarray | None) -> list[Revolved]:
     """The jobs of one turning path: the section (k, 2) at poses ``rz`` (n, 2), one job per
     STEPS steps (a lone pose: the section placed there). ``rows`` (n,) int or None."""
     rz = np.asarray(rz, dtype=float).reshape(-1, 2)
@@ -58,11 +76,13 @@ def claim(section: np.ndarray, rz: np.ndarray, rows: np.ndarray | None) -> list[
     return jobs
 
 
-def make(job: Revolved, bounds: np.ndarray, segments: int) -> Cutter | None:
-    """The cutter of one job within the stock's ``bounds`` (2, 3) mm (its (r, z) extent, one
-    millimetre more: what lies outside removes nothing), a ``segments``-gon revolution; None
-    when it misses the stock."""
-    lo, hi = np.asarray(bounds, dtype=float)
+def make(job: Revolved, maker) -> Cutter | None:
+    """The cutter of one job within the stock's bounds (its (r, z) extent, one millimetre
+    more: what lies outside removes nothing), a revolution of the maker's ``turn_segments``
+    (:class:`vmach.stock.make.Maker`); None when it misses the stock."""
+    bounds = np.asarray(maker.view.bounds, dtype=float)
+    segments = maker.turn_segments
+    lo, hi = bounds
     r_max = float(np.hypot(np.abs(bounds[:, 0]).max(), np.abs(bounds[:, 1]).max())) + 1.0
     keep = [h for h in job.hulls if np.abs(h[:, 0]).min() < r_max and h[:, 1].max() > lo[2] - 1.0
             and h[:, 1].min() < hi[2] + 1.0]
